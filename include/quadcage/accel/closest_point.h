@@ -1,0 +1,67 @@
+#pragma once
+// Closest-point queries on a triangle mesh, accelerated by an Embree BVH (design.md §5).
+
+#include <array>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "quadcage/core/mesh.h"
+
+namespace quadcage::accel {
+
+/// The point of a triangle mesh closest to a query point.
+struct ClosestHit {
+    int triangle = -1;                      ///< Index into Mesh::triangles.
+    Vec3 point;                             ///< Closest point, in the mesh's own coordinates.
+    std::array<double, 3> barycentric{};    ///< Weights of the triangle's 3 vertices; sum to 1.
+    double distance = 0;                    ///< Euclidean distance from the query to `point`.
+};
+
+/// Exact closest-point queries on a fixed triangle mesh.
+///
+/// The BVH (Embree, high build quality) is built once in the constructor over coordinates re-centred
+/// on the bounding-box centre, because Embree stores floats. The BVH only prunes; the distance to
+/// each candidate triangle is computed in double precision from the original coordinates, and the
+/// search radius is kept slightly above the best distance so float rounding of the BVH bounds cannot
+/// discard the true closest triangle. Results are therefore the exact minimum over all triangles;
+/// ties (equal distances) go to the lowest triangle index, so results do not depend on traversal order.
+///
+/// Queries are const and thread-safe. The index copies what it needs: the mesh may be destroyed
+/// after construction. Non-copyable, movable; a moved-from index may only be destroyed or assigned.
+class ClosestPointIndex {
+public:
+    /// Builds the index.
+    /// \pre Triangle indices are valid and the points finite (checked: throws InvalidInput otherwise).
+    /// \throw InvalidInput if the mesh has no triangles, a vertex index is out of range or a used
+    ///        point is not finite.
+    /// \throw std::runtime_error if Embree fails (device creation, out of memory).
+    explicit ClosestPointIndex(const Mesh& mesh);
+    ~ClosestPointIndex();
+    ClosestPointIndex(ClosestPointIndex&& other) noexcept;
+    ClosestPointIndex& operator=(ClosestPointIndex&& other) noexcept;
+    ClosestPointIndex(const ClosestPointIndex&) = delete;
+    ClosestPointIndex& operator=(const ClosestPointIndex&) = delete;
+
+    /// The closest point of the mesh to p. Thread-safe.
+    /// \throw InvalidInput if p is not finite.
+    ClosestHit query(const Vec3& p) const;
+
+    /// query() for every point, in parallel over `threads` std::threads (0 = hardware concurrency).
+    /// The result is identical to calling query() on each point in order, whatever the thread count.
+    /// \throw InvalidInput if a point is not finite (naming its index) or threads < 0.
+    std::vector<ClosestHit> query_all(const std::vector<Vec3>& points, int threads = 0) const;
+
+    /// Number of triangles indexed.
+    int num_triangles() const;
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+/// Version of the Embree library linked at run time, e.g. "Embree 3.13.5" (creates a device to ask).
+/// \throw std::runtime_error if no Embree device can be created.
+std::string embree_version();
+
+}  // namespace quadcage::accel

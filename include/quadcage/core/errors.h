@@ -1,0 +1,34 @@
+#pragma once
+// Exceptions and the internal-invariant check shared by every module.
+
+#include <stdexcept>
+#include <string>
+
+namespace quadcage {
+
+/// The input cannot be used: unreadable file, bad format, or a mesh that the requested operation
+/// does not accept (open, non-manifold, ...). The message names the file or element and says what
+/// to do. The CLI maps it to exit code 3.
+class InvalidInput : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
+/// A broken internal invariant (a bug in quadcage, not in the input). The CLI maps it to exit code 1.
+class InternalError : public std::logic_error {
+public:
+    using std::logic_error::logic_error;
+};
+
+namespace detail {
+[[noreturn]] void fail_check(const char* expr, const char* file, int line, const std::string& msg);
+}
+
+}  // namespace quadcage
+
+/// Internal invariant check; always on (also in release builds: these guard geometry that, if
+/// wrong, would be written to disk as a silently broken layout).
+#define QC_CHECK(cond, msg)                                                            \
+    do {                                                                               \
+        if (!(cond)) ::quadcage::detail::fail_check(#cond, __FILE__, __LINE__, (msg)); \
+    } while (0)

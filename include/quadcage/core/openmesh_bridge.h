@@ -1,0 +1,33 @@
+#pragma once
+// Reading polygon meshes through OpenMesh, to cross-check what quadcage writes with an independent
+// half-edge library (e.g. that a level-1 cage is a closed manifold quad mesh).
+
+#include <string>
+
+namespace quadcage {
+
+/// What OpenMesh made of a polygon mesh file.
+struct PolygonMeshSummary {
+    int vertices = 0;
+    int faces = 0;
+    int edges = 0;
+    int boundary_edges = 0;
+    int min_face_valence = 0;
+    int max_face_valence = 0;
+    int isolated_vertices = 0;
+    bool closed() const { return faces > 0 && boundary_edges == 0; }
+    bool all_quads() const { return faces > 0 && min_face_valence == 4 && max_face_valence == 4; }
+    int euler_characteristic() const { return vertices - edges + faces; }
+};
+
+/// Reads `path` with OpenMesh's own reader (OBJ, OFF, PLY, STL). OpenMesh's half-edge kernel
+/// refuses faces that would make the mesh non-manifold, so a file whose face count differs from
+/// `faces` was not a manifold polygon mesh.
+/// \throw InvalidInput if OpenMesh cannot read the file.
+PolygonMeshSummary read_with_openmesh(const std::string& path);
+
+/// OpenMesh's version, read from the linked library's headers, with a run-time round trip through
+/// its half-edge kernel (proves the library links).
+std::string openmesh_version();
+
+}  // namespace quadcage

@@ -1,0 +1,75 @@
+#pragma once
+// Closed test surfaces of known genus, used by the tests, the benchmarks and `quadcage generate`.
+//
+// Every mesh returned here is closed, edge- and vertex-manifold, consistently oriented with outward
+// normals (positive signed volume), connected, free of degenerate triangles, and has no duplicate
+// or unused vertices. All functions throw quadcage::InvalidInput for arguments outside their
+// preconditions (including outputs too large to index with int).
+
+#include "quadcage/core/mesh.h"
+
+namespace quadcage::shapes {
+
+/// Icosphere of radius `radius` centred at the origin: 20*4^subdivisions triangles,
+/// 10*4^subdivisions + 2 vertices, all on the sphere; genus 0.
+/// \pre 0 <= subdivisions <= 10, radius > 0 (finite).
+Mesh icosphere(int subdivisions, double radius = 1.0);
+
+/// Torus around the z axis (major radius R, minor radius r), `n_major` x `n_minor` quads split into
+/// 2*n_major*n_minor triangles (n_major*n_minor vertices): genus 1. Vertex (i, j) sits at major
+/// angle 2*pi*i/n_major and minor angle 2*pi*j/n_minor, index i*n_minor + j.
+/// \pre n_major >= 3, n_minor >= 3, 0 < r < R (finite).
+Mesh torus(int n_major, int n_minor, double R = 1.0, double r = 0.35);
+
+/// Options for plate_with_holes().
+struct PlateOptions {
+    int resolution = 2;      ///< Sub-cells per coarse-grid unit along x and y (>= 1); more = finer.
+    double thickness = 0.6;  ///< Plate thickness t in coarse-grid units (> 0, finite).
+    bool bend = true;        ///< Bend the plate gently onto an arc so it is not axis-aligned.
+};
+
+/// A thickened plate with `genus` square holes: a mesh of genus exactly `genus` (a box for 0).
+///
+/// Layout before bending (coarse-grid units), for g = genus:
+///  - cols = ceil(sqrt(g)) and rows = ceil(g / cols) (both 0 when g = 0);
+///  - the plate is the box [0, W] x [0, H] x [0, t] with W = 2*cols + 1, H = 2*rows + 1 and
+///    t = options.thickness (g = 0: the box [0,1] x [0,1] x [0,t]);
+///  - hole k (0 <= k < g) lies in column c = k % cols and row r = k / cols and removes the prism
+///    [2c+1, 2c+2] x [2r+1, 2r+2] x [0, t]. Holes are therefore unit squares, 1 apart and 1 from
+///    the rim; only the last row may have empty slots (when cols does not divide g), which stay
+///    solid (e.g. g = 3: cols = rows = 2, the slot [3,4] x [3,4] is solid).
+///
+/// Tight cycles, before bending: each hole is bordered by solid bars of width 1 (cross-section
+/// 1 x t) on its left (x in [2c, 2c+1]) and below (y in [2r, 2r+1]), and also on its right and
+/// above unless the neighbouring slot in the last row is empty. The shortest cycle going once
+/// around such a bar (e.g. around the material between a hole and the rim) is the boundary of the
+/// bar's cross-section, of length exactly 2*(1 + t); the shortest cycle going once around a hole
+/// (along its wall) has length exactly 4 (so for t < 1 the bar cycles are the shorter). Both are
+/// edge paths of the mesh at any resolution: e.g. the cross-section of the bar below hole k in the
+/// plane x = 2c+1 (or in any plane x = m/res with 2c+1 <= m/res <= 2c+2), and the rim of hole k
+/// at z = 0.
+///
+/// Mesh: every unit cell is split into resolution x resolution sub-cells and the thickness into
+/// L = max(1, round(t * resolution)) layers; the output is the boundary of that voxel solid, each
+/// boundary quad split into 2 triangles with the diagonal alternating in a checkerboard. Number of
+/// triangles: 4*res^2*(W*H - g) on the top and bottom plus 2*res*L*(2*(W + H) + 4*g) on the walls
+/// (1744 for genus 20 with the default options).
+///
+/// With `bend`, the points of the bend=false mesh (same vertex and triangle order) are moved by a
+/// smooth, injective, orientation-preserving map: small shears y += 0.1*sin(pi*x/W) and
+/// z += 0.05*sin(2*pi*x/W)*cos(pi*y/H), then a bend of the plate along x onto a circular arc
+/// around an axis parallel to y below the plate, keeping the line x = W/2, z = t/2 fixed. The
+/// mid-surface z = t/2 goes onto radius rho = max(3*W/pi, t + 1) with its lengths kept (total
+/// angle W/rho <= 60 degrees); lengths along x on the top and bottom faces scale by about
+/// 1 + t/(2*rho) and 1 - t/(2*rho). Hence:
+///  - a bar cycle keeps its length to within 1% of 2*(1 + t) (checked by the tests): the bottom
+///    side of a cross-section shrinks as much as the top side grows;
+///  - a hole cycle on the top (bottom) face gets longer (shorter) by about t/rho (5% for genus 1
+///    with t = 0.6).
+/// Use bend=false where exact lengths or bounding boxes matter.
+///
+/// \pre 0 <= genus <= 1000000, options.resolution >= 1, options.thickness > 0 (finite), and at
+///      most 1e8 triangles.
+Mesh plate_with_holes(int genus, const PlateOptions& options = {});
+
+}  // namespace quadcage::shapes

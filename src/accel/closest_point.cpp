@@ -1,0 +1,346 @@
+#include "quadcage/accel/closest_point.h"
+
+#include <embree3/rtcore.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <exception>
+#include <limits>
+#include <stdexcept>
+#include <thread>
+#include <utility>
+
+#include "quadcage/core/errors.h"
+
+namespace quadcage::accel {
+
+namespace {
+
+/// A point on a triangle with its barycentric coordinates.
+struct TrianglePoint {
+    Vec3 point;
+    std::array<double, 3> bary{};
+};
+
+/// Closest point to p on the segment [a, b]; t in [0, 1] is the weight of b.
+double closest_on_segment(const Vec3& p, const Vec3& a, const Vec3& b) {
+    const Vec3 ab = b - a;
+    const double len2 = dot(ab, ab);
+    if (!(len2 > 0)) return 0.0;
+    return std::clamp(dot(p - a, ab) / len2, 0.0, 1.0);
+}
+
+/// Closest point on a (near-)degenerate triangle: the best of its three edges.
+TrianglePoint closest_on_degenerate(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+    const Vec3* v[3] = {&a, &b, &c};
+    TrianglePoint best;
+    double best_d2 = std::numeric_limits<double>::infinity();
+    for (int e = 0; e < 3; ++e) {
+        const int i = e, j = (e + 1) % 3;
+        const double t = closest_on_segment(p, *v[i], *v[j]);
+        const Vec3 q = *v[i] + (*v[j] - *v[i]) * t;
+        const Vec3 d = p - q;
+        const double d2 = dot(d, d);
+        if (d2 < best_d2) {
+            best_d2 = d2;
+            best.point = q;
+            best.bary = {0.0, 0.0, 0.0};
+            best.bary[i] = 1.0 - t;
+            best.bary[j] = t;
+        }
+    }
+    return best;
+}
+
+/// Exact closest point on triangle abc, by classifying p into the triangle's Voronoi regions
+/// (vertex, edge, face). Ericson, Real-Time Collision Detection, §5.1.5.
+TrianglePoint closest_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+    const Vec3 ab = b - a, ac = c - a;
+    // The edge and face formulas divide by |ab|^2, |ac|^2, |bc|^2 and |ab x ac|^2; route triangles
+    // whose area vanishes relative to their edges to the edge-only version.
+    const Vec3 n = cross(ab, ac);
+    const double n2 = dot(n, n);
+    if (!(n2 > 1e-24 * dot(ab, ab) * dot(ac, ac))) return closest_on_degenerate(p, a, b, c);
+
+    const Vec3 ap = p - a;
+    const double d1 = dot(ab, ap), d2 = dot(ac, ap);
+    if (d1 <= 0 && d2 <= 0) return {a, {1, 0, 0}};
+
+    const Vec3 bp = p - b;
+    const double d3 = dot(ab, bp), d4 = dot(ac, bp);
+    if (d3 >= 0 && d4 <= d3) return {b, {0, 1, 0}};
+
+    const double vc = d1 * d4 - d3 * d2;
+    if (vc <= 0 && d1 >= 0 && d3 <= 0) {
+        const double v = d1 / (d1 - d3);
+        return {a + ab * v, {1 - v, v, 0}};
+    }
+
+    const Vec3 cp = p - c;
+    const double d5 = dot(ab, cp), d6 = dot(ac, cp);
+    if (d6 >= 0 && d5 <= d6) return {c, {0, 0, 1}};
+
+    const double vb = d5 * d2 - d1 * d6;
+    if (vb <= 0 && d2 >= 0 && d6 <= 0) {
+        const double w = d2 / (d2 - d6);
+        return {a + ac * w, {1 - w, 0, w}};
+    }
+
+    const double va = d3 * d6 - d5 * d4;
+    if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
+        const double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+        return {b + (c - b) * w, {0, 1 - w, w}};
+    }
+
+    // Face region. Rounding can leave a weight a hair below 0: clamp and renormalise so the
+    // reported point always lies on the triangle.
+    const double denom = va + vb + vc;
+    double v = std::max(0.0, vb / denom), w = std::max(0.0, vc / denom);
+    double u = std::max(0.0, 1.0 - v - w);
+    const double s = u + v + w;
+    u /= s;
+    v /= s;
+    w /= s;
+    return {a * u + b * v + c * w, {u, v, w}};
+}
+
+[[noreturn]] void throw_embree_error(RTCDevice device, const char* what) {
+    const RTCError code = rtcGetDeviceError(device);
+    throw std::runtime_error(std::string("Embree: ") + what + " failed (error code " +
+                             std::to_string(static_cast<int>(code)) + ")");
+}
+
+void check_embree(RTCDevice device, const char* what) {
+    if (rtcGetDeviceError(device) != RTC_ERROR_NONE) throw_embree_error(device, what);
+}
+
+/// Embree coordinates are float; beyond this (in units of the scene's half extent) a query point is
+/// answered by a linear scan instead, so squared distances inside Embree cannot overflow.
+constexpr double kMaxEmbreeCoordinate = 1e15;
+
+/// Relative slack added to the search radius (in Embree's scaled units, where the scene spans
+/// [-1, 1]^3): about 16 float ulps, enough to cover rounding of the query point, the vertices and
+/// Embree's own sphere-box test, so the BVH never prunes a triangle that is closer in double.
+constexpr double kRadiusSlack = 1e-6;
+
+/// The index's state: the Embree objects and a double-precision copy of the mesh.
+struct IndexData {
+    RTCDevice device = nullptr;
+    RTCScene scene = nullptr;
+    std::vector<Vec3> points;  // original coordinates minus centre (double)
+    std::vector<Triangle> triangles;
+    Vec3 centre;
+    double scale = 1.0;  // Embree coordinate = (p - centre) * scale
+
+    IndexData() = default;
+    IndexData(const IndexData&) = delete;
+    IndexData& operator=(const IndexData&) = delete;
+    ~IndexData() {
+        if (scene) rtcReleaseScene(scene);
+        if (device) rtcReleaseDevice(device);
+    }
+};
+
+/// Per-query state handed to the Embree callback through userPtr.
+struct QueryState {
+    const IndexData* impl = nullptr;
+    Vec3 p;              // query point, centred, double
+    double slack = 0;    // radius slack in Embree units
+    double best_d2 = std::numeric_limits<double>::infinity();
+    int best_triangle = -1;
+    TrianglePoint best;
+};
+
+/// Offers triangle t to the running minimum; true if it became the best.
+bool offer_triangle(QueryState& s, int t) {
+    const Triangle& tri = s.impl->triangles[t];
+    const auto& pts = s.impl->points;
+    const TrianglePoint tp = closest_on_triangle(s.p, pts[tri[0]], pts[tri[1]], pts[tri[2]]);
+    const Vec3 d = s.p - tp.point;
+    const double d2 = dot(d, d);
+    if (d2 < s.best_d2 || (d2 == s.best_d2 && t < s.best_triangle)) {
+        s.best_d2 = d2;
+        s.best_triangle = t;
+        s.best = tp;
+        return true;
+    }
+    return false;
+}
+
+bool point_query_callback(RTCPointQueryFunctionArguments* args) {
+    auto& s = *static_cast<QueryState*>(args->userPtr);
+    if (!offer_triangle(s, static_cast<int>(args->primID))) return false;
+    const double r = std::sqrt(s.best_d2) * s.impl->scale + s.slack;
+    const float rf = std::nextafter(static_cast<float>(r), std::numeric_limits<float>::infinity());
+    if (rf < args->query->radius) {
+        args->query->radius = rf;
+        return true;  // tells Embree the search sphere shrank
+    }
+    return false;
+}
+
+}  // namespace
+
+struct ClosestPointIndex::Impl : IndexData {};
+
+ClosestPointIndex::ClosestPointIndex(const Mesh& mesh) : impl_(std::make_unique<Impl>()) {
+    if (mesh.triangles.empty())
+        throw InvalidInput("closest-point index: the mesh has no triangles");
+    const int nv = mesh.num_vertices();
+    std::vector<char> used(nv, 0);
+    for (int t = 0; t < mesh.num_triangles(); ++t)
+        for (int v : mesh.triangles[t]) {
+            if (v < 0 || v >= nv)
+                throw InvalidInput("closest-point index: triangle " + std::to_string(t) +
+                                   " refers to vertex " + std::to_string(v) + " but the mesh has " +
+                                   std::to_string(nv) + " vertices");
+            if (!used[v] && !is_finite(mesh.points[v]))
+                throw InvalidInput("closest-point index: vertex " + std::to_string(v) +
+                                   " has a non-finite coordinate");
+            used[v] = 1;
+        }
+
+    Impl& im = *impl_;
+    const BoundingBox box = bounding_box(mesh);
+    im.centre = (box.min + box.max) * 0.5;
+    // Scale as well as re-centre, so Embree's floats see [-1, 1]^3 whatever the units are.
+    const Vec3 half = (box.max - box.min) * 0.5;
+    const double half_extent = std::max({half.x, half.y, half.z});
+    im.scale = half_extent > 0 ? 1.0 / half_extent : 1.0;
+    im.points.resize(nv);
+    for (int v = 0; v < nv; ++v)
+        if (used[v]) im.points[v] = mesh.points[v] - im.centre;
+    im.triangles = mesh.triangles;
+
+    im.device = rtcNewDevice(nullptr);
+    if (!im.device) throw_embree_error(nullptr, "rtcNewDevice");
+    im.scene = rtcNewScene(im.device);
+    check_embree(im.device, "rtcNewScene");
+    rtcSetSceneBuildQuality(im.scene, RTC_BUILD_QUALITY_HIGH);
+
+    RTCGeometry geom = rtcNewGeometry(im.device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    check_embree(im.device, "rtcNewGeometry");
+    rtcSetGeometryBuildQuality(geom, RTC_BUILD_QUALITY_HIGH);
+    auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(
+        geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), nv));
+    auto* ib = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
+        geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned),
+        im.triangles.size()));
+    if (!vb || !ib) {
+        rtcReleaseGeometry(geom);
+        throw_embree_error(im.device, "rtcSetNewGeometryBuffer");
+    }
+    for (int v = 0; v < nv; ++v)
+        for (int k = 0; k < 3; ++k) vb[3 * v + k] = static_cast<float>(im.points[v][k] * im.scale);
+    for (size_t t = 0; t < im.triangles.size(); ++t)
+        for (int k = 0; k < 3; ++k) ib[3 * t + k] = static_cast<unsigned>(im.triangles[t][k]);
+    rtcCommitGeometry(geom);
+    rtcAttachGeometry(im.scene, geom);
+    rtcReleaseGeometry(geom);  // the scene holds its own reference
+    rtcCommitScene(im.scene);
+    check_embree(im.device, "building the BVH");
+}
+
+ClosestPointIndex::~ClosestPointIndex() = default;
+ClosestPointIndex::ClosestPointIndex(ClosestPointIndex&& other) noexcept = default;
+ClosestPointIndex& ClosestPointIndex::operator=(ClosestPointIndex&& other) noexcept = default;
+
+int ClosestPointIndex::num_triangles() const {
+    QC_CHECK(impl_ != nullptr, "use of a moved-from ClosestPointIndex");
+    return static_cast<int>(impl_->triangles.size());
+}
+
+ClosestHit ClosestPointIndex::query(const Vec3& p) const {
+    QC_CHECK(impl_ != nullptr, "use of a moved-from ClosestPointIndex");
+    if (!is_finite(p)) throw InvalidInput("closest-point query: the query point is not finite");
+    const Impl& im = *impl_;
+
+    QueryState s;
+    s.impl = &im;
+    s.p = p - im.centre;
+    const Vec3 q = s.p * im.scale;
+    const double qmax = std::max({std::abs(q.x), std::abs(q.y), std::abs(q.z)});
+    if (qmax <= kMaxEmbreeCoordinate) {
+        s.slack = kRadiusSlack * (1.0 + qmax);
+        RTCPointQuery query;
+        query.x = static_cast<float>(q.x);
+        query.y = static_cast<float>(q.y);
+        query.z = static_cast<float>(q.z);
+        query.time = 0.0f;
+        query.radius = std::numeric_limits<float>::infinity();
+        RTCPointQueryContext context;
+        rtcInitPointQueryContext(&context);
+        rtcPointQuery(im.scene, &query, &context, point_query_callback, &s);
+    } else {
+        for (int t = 0; t < static_cast<int>(im.triangles.size()); ++t) offer_triangle(s, t);
+    }
+    QC_CHECK(s.best_triangle >= 0, "Embree point query visited no triangle");
+
+    ClosestHit hit;
+    hit.triangle = s.best_triangle;
+    hit.point = s.best.point + im.centre;
+    hit.barycentric = s.best.bary;
+    hit.distance = std::sqrt(s.best_d2);
+    return hit;
+}
+
+std::vector<ClosestHit> ClosestPointIndex::query_all(const std::vector<Vec3>& points,
+                                                     int threads) const {
+    QC_CHECK(impl_ != nullptr, "use of a moved-from ClosestPointIndex");
+    if (threads < 0)
+        throw InvalidInput("closest-point query_all: threads must be >= 0 (0 = all cores), got " +
+                           std::to_string(threads));
+    for (size_t i = 0; i < points.size(); ++i)
+        if (!is_finite(points[i]))
+            throw InvalidInput("closest-point query_all: query point " + std::to_string(i) +
+                               " is not finite");
+
+    std::vector<ClosestHit> hits(points.size());
+    constexpr size_t kBlock = 256;
+    const size_t num_blocks = (points.size() + kBlock - 1) / kBlock;
+    size_t num_threads = threads > 0 ? static_cast<size_t>(threads)
+                                     : std::max(1u, std::thread::hardware_concurrency());
+    num_threads = std::min(num_threads, num_blocks);
+
+    // Each point's answer depends only on the point, so any block-to-thread assignment gives the
+    // same result; blocks are handed out dynamically for load balance.
+    std::atomic<size_t> next_block{0};
+    std::exception_ptr error;
+    std::atomic<bool> failed{false};
+    auto work = [&]() {
+        try {
+            while (!failed) {
+                const size_t b = next_block++;
+                if (b >= num_blocks) break;
+                const size_t end = std::min(points.size(), (b + 1) * kBlock);
+                for (size_t i = b * kBlock; i < end; ++i) hits[i] = query(points[i]);
+            }
+        } catch (...) {
+            if (!failed.exchange(true)) error = std::current_exception();
+        }
+    };
+    if (num_threads <= 1) {
+        work();
+    } else {
+        std::vector<std::thread> pool;
+        pool.reserve(num_threads);
+        for (size_t k = 0; k < num_threads; ++k) pool.emplace_back(work);
+        for (std::thread& t : pool) t.join();
+    }
+    if (error) std::rethrow_exception(error);
+    return hits;
+}
+
+std::string embree_version() {
+    RTCDevice device = rtcNewDevice(nullptr);
+    if (!device) throw_embree_error(nullptr, "rtcNewDevice");
+    const auto major = rtcGetDeviceProperty(device, RTC_DEVICE_PROPERTY_VERSION_MAJOR);
+    const auto minor = rtcGetDeviceProperty(device, RTC_DEVICE_PROPERTY_VERSION_MINOR);
+    const auto patch = rtcGetDeviceProperty(device, RTC_DEVICE_PROPERTY_VERSION_PATCH);
+    rtcReleaseDevice(device);
+    return "Embree " + std::to_string(major) + "." + std::to_string(minor) + "." +
+           std::to_string(patch);
+}
+
+}  // namespace quadcage::accel

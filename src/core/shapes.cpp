@@ -1,0 +1,281 @@
+#include "quadcage/core/shapes.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <map>
+#include <string>
+#include <unordered_map>
+#include <utility>
+
+#include "quadcage/core/errors.h"
+
+namespace quadcage::shapes {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// Refuse requests whose output could not be indexed with int (or would exhaust memory) before
+// allocating anything.
+constexpr std::int64_t kMaxTriangles = 100'000'000;
+
+void require(bool ok, const std::string& what) {
+    if (!ok) throw InvalidInput(what);
+}
+
+Vec3 normalized(const Vec3& v) { return v / norm(v); }
+
+// ---------------------------------------------------------------------------------------------
+// plate_with_holes
+
+struct PlateLayout {
+    int genus = 0;
+    int cols = 0;    // holes per row
+    int rows = 0;    // rows of holes
+    int width = 1;   // W, along x
+    int height = 1;  // H, along y
+};
+
+PlateLayout plate_layout(int genus) {
+    PlateLayout l;
+    l.genus = genus;
+    // Integer ceil(sqrt(g)): floating-point sqrt may land just below an exact square.
+    while (static_cast<std::int64_t>(l.cols) * l.cols < genus) ++l.cols;
+    l.rows = l.cols == 0 ? 0 : static_cast<int>((std::int64_t{genus} + l.cols - 1) / l.cols);
+    l.width = 2 * l.cols + 1;
+    l.height = 2 * l.rows + 1;
+    return l;
+}
+
+bool is_hole_cell(const PlateLayout& l, int cx, int cy) {
+    if (cx % 2 == 0 || cy % 2 == 0) return false;
+    const int c = (cx - 1) / 2, r = (cy - 1) / 2;
+    return c < l.cols && r < l.rows && r * l.cols + c < l.genus;
+}
+
+struct IVec3 {
+    int x = 0, y = 0, z = 0;
+    IVec3 operator+(const IVec3& o) const { return {x + o.x, y + o.y, z + o.z}; }
+};
+
+constexpr IVec3 kX{1, 0, 0}, kY{0, 1, 0}, kZ{0, 0, 1};
+
+// Builds the boundary of a voxel solid. Vertices are deduplicated by integer grid coordinates so
+// that equal corners are shared exactly, whatever the floating-point spacing.
+class VoxelSurface {
+public:
+    // Grid point (i, j, k) in [0, nx] x [0, ny] x [0, nz] sits at (i/per_unit, j/per_unit,
+    // height*k/nz); dividing (rather than multiplying by a step) keeps unit-grid positions exact.
+    VoxelSurface(int nx, int ny, int nz, int per_unit, double height)
+        : ny_(ny + 1), nz_(nz + 1), per_unit_(per_unit), height_(height) {
+        QC_CHECK(nx >= 0 && ny >= 0 && nz >= 0, "voxel grid dimensions must be non-negative");
+    }
+
+    // Quad with corners o, o+u, o+u+v, o+v; its outward normal is u x v.
+    void add_quad(IVec3 o, IVec3 u, IVec3 v) {
+        const int p0 = vertex(o), p1 = vertex(o + u), p2 = vertex(o + u + v), p3 = vertex(o + v);
+        // Alternate the diagonal in a checkerboard (neighbouring quads in a plane differ by one
+        // unit in u or v, so the parity of the origin flips) to avoid a directional bias.
+        if (((o.x + o.y + o.z) & 1) == 0) {
+            mesh_.triangles.push_back({p0, p1, p2});
+            mesh_.triangles.push_back({p0, p2, p3});
+        } else {
+            mesh_.triangles.push_back({p0, p1, p3});
+            mesh_.triangles.push_back({p1, p2, p3});
+        }
+    }
+
+    Mesh take() { return std::move(mesh_); }
+
+private:
+    int vertex(IVec3 p) {
+        const std::int64_t key = (static_cast<std::int64_t>(p.x) * ny_ + p.y) * nz_ + p.z;
+        const auto [it, inserted] = index_.try_emplace(key, mesh_.num_vertices());
+        if (inserted) {
+            const double z = p.z == nz_ - 1 ? height_ : height_ * p.z / (nz_ - 1);
+            mesh_.points.push_back({static_cast<double>(p.x) / per_unit_,
+                                    static_cast<double>(p.y) / per_unit_, z});
+        }
+        return it->second;
+    }
+
+    std::int64_t ny_, nz_;
+    int per_unit_;
+    double height_;
+    Mesh mesh_;
+    std::unordered_map<std::int64_t, int> index_;
+};
+
+// Smooth, injective, orientation-preserving map that takes the plate off the coordinate axes.
+// The two shears are triangular (y moves with x only, z with x and y only), hence injective with
+// unit Jacobian; the bend is a polar map with positive radius over less than half a turn.
+class PlateBend {
+public:
+    PlateBend(double width, double height, double thickness)
+        : width_(width), height_(height), half_t_(0.5 * thickness) {
+        // Arc length of the mid-surface is kept, so the angle is width / radius <= 60 degrees;
+        // the radius also stays above the half-thickness plus the wobble so that rho > 0.
+        radius_ = std::max(width / (kPi / 3.0), thickness + 1.0);
+    }
+
+    Vec3 operator()(const Vec3& p) const {
+        const double y = p.y + kShearY * std::sin(kPi * p.x / width_);
+        const double z = p.z + kWobbleZ * std::sin(2.0 * kPi * p.x / width_) *
+                                   std::cos(kPi * p.y / height_);
+        const double theta = (p.x - 0.5 * width_) / radius_;
+        const double rho = radius_ + (z - half_t_);
+        return {0.5 * width_ + rho * std::sin(theta), y, rho * std::cos(theta) - radius_ + half_t_};
+    }
+
+private:
+    static constexpr double kShearY = 0.1;
+    static constexpr double kWobbleZ = 0.05;
+    double width_, height_, half_t_, radius_ = 1.0;
+};
+
+}  // namespace
+
+Mesh icosphere(int subdivisions, double radius) {
+    require(subdivisions >= 0 && subdivisions <= 10,
+            "icosphere: subdivisions must be in 0..10, got " + std::to_string(subdivisions));
+    require(std::isfinite(radius) && radius > 0,
+            "icosphere: radius must be positive and finite, got " + std::to_string(radius));
+
+    // The 12 icosahedron vertices are the cyclic permutations of (0, +-1, +-phi); its faces are
+    // the triples of mutually adjacent vertices (edge length 2, the next distance is 2*phi).
+    const double phi = 0.5 * (1.0 + std::sqrt(5.0));
+    Mesh mesh;
+    for (double a : {-1.0, 1.0})
+        for (double b : {-phi, phi}) {
+            mesh.points.push_back(normalized({0, a, b}));
+            mesh.points.push_back(normalized({a, b, 0}));
+            mesh.points.push_back(normalized({b, 0, a}));
+        }
+    const double edge2 = 4.0 / (1.0 + phi * phi);  // squared edge length on the unit sphere
+    auto adjacent = [&](int i, int j) {
+        const Vec3 d = mesh.points[i] - mesh.points[j];
+        return dot(d, d) < 1.5 * edge2;
+    };
+    for (int i = 0; i < 12; ++i)
+        for (int j = i + 1; j < 12; ++j)
+            for (int k = j + 1; k < 12; ++k) {
+                if (!adjacent(i, j) || !adjacent(j, k) || !adjacent(i, k)) continue;
+                const Vec3 &a = mesh.points[i], &b = mesh.points[j], &c = mesh.points[k];
+                // Convex and centred at the origin: outward means the normal points away from 0.
+                if (dot(cross(b - a, c - a), a + b + c) > 0)
+                    mesh.triangles.push_back({i, j, k});
+                else
+                    mesh.triangles.push_back({i, k, j});
+            }
+    QC_CHECK(mesh.num_triangles() == 20, "icosahedron must have 20 faces");
+
+    for (int s = 0; s < subdivisions; ++s) {
+        std::map<std::pair<int, int>, int> midpoint;
+        auto mid = [&](int a, int b) {
+            const auto key = std::minmax(a, b);
+            const auto [it, inserted] = midpoint.try_emplace(key, mesh.num_vertices());
+            if (inserted) mesh.points.push_back(normalized(mesh.points[a] + mesh.points[b]));
+            return it->second;
+        };
+        std::vector<Triangle> finer;
+        finer.reserve(4 * mesh.triangles.size());
+        for (const Triangle& t : mesh.triangles) {
+            const int ab = mid(t[0], t[1]), bc = mid(t[1], t[2]), ca = mid(t[2], t[0]);
+            finer.push_back({t[0], ab, ca});
+            finer.push_back({t[1], bc, ab});
+            finer.push_back({t[2], ca, bc});
+            finer.push_back({ab, bc, ca});
+        }
+        mesh.triangles = std::move(finer);
+    }
+    for (Vec3& p : mesh.points) p *= radius;
+    return mesh;
+}
+
+Mesh torus(int n_major, int n_minor, double R, double r) {
+    require(n_major >= 3 && n_minor >= 3, "torus: n_major and n_minor must be >= 3, got " +
+                                              std::to_string(n_major) + " and " +
+                                              std::to_string(n_minor));
+    require(2 * static_cast<std::int64_t>(n_major) * n_minor <= kMaxTriangles,
+            "torus: too many segments");
+    require(std::isfinite(R) && std::isfinite(r) && r > 0 && r < R,
+            "torus: radii must satisfy 0 < r < R, got R=" + std::to_string(R) +
+                " r=" + std::to_string(r));
+
+    Mesh mesh;
+    mesh.points.reserve(static_cast<size_t>(n_major) * n_minor);
+    for (int i = 0; i < n_major; ++i) {
+        const double u = 2.0 * kPi * i / n_major;
+        for (int j = 0; j < n_minor; ++j) {
+            const double v = 2.0 * kPi * j / n_minor;
+            const double ring = R + r * std::cos(v);
+            mesh.points.push_back({ring * std::cos(u), ring * std::sin(u), r * std::sin(v)});
+        }
+    }
+    auto id = [&](int i, int j) { return (i % n_major) * n_minor + (j % n_minor); };
+    mesh.triangles.reserve(2 * static_cast<size_t>(n_major) * n_minor);
+    for (int i = 0; i < n_major; ++i)
+        for (int j = 0; j < n_minor; ++j) {
+            // d/du x d/dv points away from the tube's core circle, i.e. outward.
+            const int a = id(i, j), b = id(i + 1, j), c = id(i + 1, j + 1), d = id(i, j + 1);
+            mesh.triangles.push_back({a, b, c});
+            mesh.triangles.push_back({a, c, d});
+        }
+    return mesh;
+}
+
+Mesh plate_with_holes(int genus, const PlateOptions& options) {
+    require(genus >= 0, "plate_with_holes: genus must be >= 0, got " + std::to_string(genus));
+    require(options.resolution >= 1, "plate_with_holes: resolution must be >= 1, got " +
+                                         std::to_string(options.resolution));
+    require(std::isfinite(options.thickness) && options.thickness > 0,
+            "plate_with_holes: thickness must be positive and finite, got " +
+                std::to_string(options.thickness));
+
+    // Far above any test use; keeps the layout arithmetic below comfortably inside int.
+    require(genus <= 1'000'000, "plate_with_holes: genus must be <= 1000000, got " +
+                                    std::to_string(genus));
+    const PlateLayout layout = plate_layout(genus);
+    const std::int64_t res = options.resolution;
+    // Kept in double until bounded: thickness * resolution may exceed any integer type.
+    const double layers_real = std::max(1.0, std::round(options.thickness * options.resolution));
+    const std::int64_t area_cells = static_cast<std::int64_t>(layout.width) * layout.height;
+    const std::int64_t rim =
+        2 * (layout.width + layout.height) + 4 * static_cast<std::int64_t>(genus);
+    const double estimate = 4.0 * static_cast<double>(res * res) * static_cast<double>(area_cells) +
+                            2.0 * static_cast<double>(res) * layers_real * static_cast<double>(rim);
+    require(estimate <= static_cast<double>(kMaxTriangles),
+            "plate_with_holes: genus/resolution/thickness give too large a mesh");
+    const int layers = static_cast<int>(layers_real);
+
+    const int nx = layout.width * options.resolution, ny = layout.height * options.resolution;
+    auto solid = [&](int i, int j) {
+        return i >= 0 && j >= 0 && i < nx && j < ny &&
+               !is_hole_cell(layout, i / options.resolution, j / options.resolution);
+    };
+
+    // The solid is a prism over a planar region, so only the top, the bottom and the walls above
+    // the region's boundary edges are needed, not a full voxel sweep.
+    VoxelSurface surface(nx, ny, layers, options.resolution, options.thickness);
+    for (int j = 0; j < ny; ++j)
+        for (int i = 0; i < nx; ++i) {
+            if (!solid(i, j)) continue;
+            surface.add_quad({i, j, layers}, kX, kY);  // top, +z
+            surface.add_quad({i, j, 0}, kY, kX);       // bottom, -z
+            for (int k = 0; k < layers; ++k) {
+                if (!solid(i + 1, j)) surface.add_quad({i + 1, j, k}, kY, kZ);  // +x
+                if (!solid(i - 1, j)) surface.add_quad({i, j, k}, kZ, kY);      // -x
+                if (!solid(i, j + 1)) surface.add_quad({i, j + 1, k}, kZ, kX);  // +y
+                if (!solid(i, j - 1)) surface.add_quad({i, j, k}, kX, kZ);      // -y
+            }
+        }
+    Mesh mesh = surface.take();
+
+    if (options.bend) {
+        const PlateBend bend(layout.width, layout.height, options.thickness);
+        for (Vec3& p : mesh.points) p = bend(p);
+    }
+    return mesh;
+}
+
+}  // namespace quadcage::shapes

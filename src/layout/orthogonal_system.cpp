@@ -1,0 +1,681 @@
+#include "quadcage/layout/orthogonal_system.h"
+
+#include <algorithm>
+#include <bitset>
+#include <cmath>
+#include <limits>
+#include <functional>
+#include <memory>
+#include <numeric>
+#include <set>
+#include <tuple>
+#include <unordered_set>
+
+#include "detail/surface.h"
+#include "quadcage/core/errors.h"
+#include "quadcage/core/validate.h"
+
+namespace quadcage::layout {
+namespace {
+
+using detail::PathResult;
+using detail::PathSearch;
+using detail::Surface;
+using Class = std::bitset<128>;  // Z2 homology class: one bit per tree-cotree generator
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// Z2 homology masks from a tree-cotree split (Eppstein 2003): h(tree) = 0, h(leftover k) = bit k,
+// cotree edges from the leaves up so that every face boundary sums to zero. A closed walk is
+// null-homologous iff the XOR of h over its edges is zero.
+std::vector<Class> homology_masks(const Surface& s, int* generators) {
+    const int n = s.num_vertices(), nh = s.num_half_edges(), nt = nh / 3;
+    std::vector<char> tree(nh, 0), cotree(nh, 0), seen(n, 0);
+    std::vector<int> queue{0};
+    seen[0] = 1;
+    for (size_t i = 0; i < queue.size(); ++i)
+        for (int h : s.out_half_edges(queue[i]))
+            if (!seen[s.to(h)]) {
+                seen[s.to(h)] = 1;
+                tree[h] = tree[s.twin(h)] = 1;
+                queue.push_back(s.to(h));
+            }
+    std::vector<int> faces{0}, parent_edge(nt, -1);
+    std::vector<char> face_seen(nt, 0);
+    face_seen[0] = 1;
+    for (size_t i = 0; i < faces.size(); ++i)
+        for (int k = 0; k < 3; ++k) {
+            const int h = 3 * faces[i] + k;
+            if (tree[h]) continue;
+            const int g = s.twin(h) / 3;
+            if (face_seen[g]) continue;
+            face_seen[g] = 1;
+            cotree[h] = cotree[s.twin(h)] = 1;
+            parent_edge[g] = s.twin(h);
+            faces.push_back(g);
+        }
+    std::vector<Class> mask(nh);
+    int bit = 0;
+    for (int h = 0; h < nh; ++h)
+        if (!tree[h] && !cotree[h] && h < s.twin(h)) {
+            QC_CHECK(bit < 128, "homology_masks: genus too large");
+            mask[h].set(bit);
+            mask[s.twin(h)].set(bit);
+            ++bit;
+        }
+    for (size_t i = faces.size(); i-- > 1;) {
+        const int f = faces[i], e = parent_edge[f];
+        Class c;
+        for (int k = 0; k < 3; ++k)
+            if (3 * f + k != e) c ^= mask[3 * f + k];
+        mask[e] = mask[s.twin(e)] = c;
+    }
+    *generators = bit;
+    return mask;
+}
+
+// A Z2 subspace kept in reduced echelon form.
+class Span {
+public:
+    bool contains(Class v) const { return reduce(v).none(); }
+    void add(Class v) {
+        v = reduce(v);
+        if (v.none()) return;
+        int p = 0;
+        while (!v[p]) ++p;
+        for (Class& b : basis_)
+            if (b[p]) b ^= v;
+        basis_.push_back(v);
+        pivot_.push_back(p);
+    }
+
+private:
+    Class reduce(Class v) const {
+        for (size_t i = 0; i < basis_.size(); ++i)
+            if (v[pivot_[i]]) v ^= basis_[i];
+        return v;
+    }
+    std::vector<Class> basis_;
+    std::vector<int> pivot_;
+};
+
+std::vector<int> farthest_point_samples(const Mesh& mesh, int k) {
+    const int n = mesh.num_vertices();
+    std::vector<int> picks{0};
+    std::vector<double> d(n, kInf);
+    while (static_cast<int>(picks.size()) < std::min(k, n)) {
+        const Vec3& p = mesh.points[picks.back()];
+        int far = 0;
+        for (int v = 0; v < n; ++v) {
+            d[v] = std::min(d[v], norm(mesh.points[v] - p));
+            if (d[v] > d[far]) far = v;
+        }
+        if (d[far] <= 0) break;
+        picks.push_back(far);
+    }
+    return picks;
+}
+
+// Homology class of the tree path from the search's source to every reached vertex.
+std::vector<Class> path_classes(const Surface& s, const PathResult& r, const std::vector<Class>& mask) {
+    const int n = s.num_vertices();
+    std::vector<Class> H(n);
+    std::vector<char> known(n, 0);
+    std::vector<int> stack;
+    for (int v = 0; v < n; ++v) {
+        if (known[v] || r.distance[v] == kInf) continue;
+        int u = v;
+        while (!known[u] && r.parent_half_edge[u] >= 0) {
+            stack.push_back(u);
+            u = s.from(r.parent_half_edge[u]);
+        }
+        known[u] = 1;  // a source (class 0) or already known
+        while (!stack.empty()) {
+            const int w = stack.back();
+            stack.pop_back();
+            H[w] = H[s.from(r.parent_half_edge[w])] ^ mask[r.parent_half_edge[w]];
+            known[w] = 1;
+        }
+    }
+    return H;
+}
+
+// The loop closed by non-tree half-edge h in a shortest-path tree, trimmed at the lowest common
+// ancestor so that it is simple.
+Cycle loop_through(const Surface& s, const PathResult& r, int h) {
+    std::vector<int> up_u = r.path_to(s, s.from(h));  // root ... u
+    std::vector<int> up_v = r.path_to(s, s.to(h));    // root ... v
+    size_t common = 0;
+    while (common < up_u.size() && common < up_v.size() && up_u[common] == up_v[common]) ++common;
+    QC_CHECK(common >= 1, "loop_through: paths do not share the root");
+    Cycle c(up_u.begin() + static_cast<long>(common) - 1, up_u.end());  // lca ... u
+    for (size_t i = up_v.size(); i-- > common;) c.push_back(up_v[i]);  // v ... child of lca
+    return c;
+}
+
+// Sectors of vertex x on a curve through prev -> x -> next: the neighbours strictly between prev
+// and next in rotation order (sector 0) and between next and prev (sector 1).
+std::array<std::vector<int>, 2> sectors(const Surface& s, int x, int prev, int next) {
+    const std::vector<int> ring = s.ring(x);
+    const int n = static_cast<int>(ring.size());
+    const int ip = static_cast<int>(std::find(ring.begin(), ring.end(), prev) - ring.begin());
+    const int in = static_cast<int>(std::find(ring.begin(), ring.end(), next) - ring.begin());
+    QC_CHECK(ip < n && in < n, "sectors: curve neighbours not adjacent");
+    std::array<std::vector<int>, 2> out;
+    for (int k = (ip + 1) % n; k != in; k = (k + 1) % n) out[0].push_back(ring[k]);
+    for (int k = (in + 1) % n; k != ip; k = (k + 1) % n) out[1].push_back(ring[k]);
+    return out;
+}
+
+std::pair<int, int> neighbours_on(const Cycle& c, int x) {
+    const auto it = std::find(c.begin(), c.end(), x);
+    QC_CHECK(it != c.end(), "neighbours_on: vertex not on the curve");
+    const size_t i = static_cast<size_t>(it - c.begin());
+    return {c[(i + c.size() - 1) % c.size()], c[(i + 1) % c.size()]};
+}
+
+std::uint64_t edge_key(int a, int b) {
+    return (static_cast<std::uint64_t>(std::min(a, b)) << 32) | static_cast<std::uint32_t>(std::max(a, b));
+}
+
+// State of the construction: the surface, the curves, and which of them are obstacles now.
+class Builder {
+public:
+    Builder(const Mesh& mesh, const OrthogonalSystemOptions& o) : s_(mesh), o_(o) {
+        sigma_ = o.repulsion_radius * std::sqrt(surface_area(mesh));
+    }
+
+    Surface s_;
+    const OrthogonalSystemOptions& o_;
+    double sigma_ = 1;
+    std::vector<Cycle> curves_;   // every curve built so far
+    std::vector<char> obstacle_;  // per curve: does the current search avoid it
+    int splits_ = 0;
+
+    std::vector<char> blocked() const {
+        std::vector<char> b(s_.num_vertices(), 0);
+        for (size_t c = 0; c < curves_.size(); ++c)
+            if (obstacle_[c])
+                for (int v : curves_[c]) b[v] = 1;
+        return b;
+    }
+
+    // Splits every edge whose two ends are on obstacle curves but which no curve walks along, so
+    // that paths can pass between curves that run side by side (design.md §4, step 5).
+    void split_chords(const std::vector<Cycle>& extra = {}) {
+        std::vector<char> on = blocked();
+        std::unordered_set<std::uint64_t> curve_edges;
+        auto add_curve = [&](const Cycle& c) {
+            for (size_t i = 0; i < c.size(); ++i) curve_edges.insert(edge_key(c[i], c[(i + 1) % c.size()]));
+        };
+        for (size_t c = 0; c < curves_.size(); ++c)
+            if (obstacle_[c]) add_curve(curves_[c]);  // an edge of a curve that is no obstacle is a chord too
+        for (const Cycle& c : extra) {
+            add_curve(c);
+            for (int v : c) on[v] = 1;
+        }
+        std::vector<std::pair<int, int>> chords;
+        for (int h = 0; h < s_.num_half_edges(); ++h) {
+            const int a = s_.from(h), b = s_.to(h);
+            if (a < b && on[a] && on[b] && !curve_edges.count(edge_key(a, b))) chords.push_back({a, b});
+        }
+        if (chords.empty()) return;
+        s_.split_edges(chords);
+        splits_ += static_cast<int>(chords.size());
+    }
+
+    // Cost of walking half-edge h: its length, more near obstacle curves (avoids hugging them).
+    std::function<double(int)> cost_near(const std::vector<char>& block) const {
+        if (o_.repulsion <= 0) return {};
+        PathSearch q;
+        for (int v = 0; v < s_.num_vertices(); ++v)
+            if (block[v]) q.sources.push_back({v, 0.0});
+        auto field = std::make_shared<std::vector<double>>(detail::dijkstra(s_, q).distance);
+        const Surface* s = &s_;
+        const double a = o_.repulsion, sigma = sigma_;
+        return [s, field, a, sigma](int h) {
+            const double d = 0.5 * ((*field)[s->from(h)] + (*field)[s->to(h)]);
+            return s->length(h) * (1.0 + a * std::exp(-d / sigma));
+        };
+    }
+
+    double edge_cost(const std::function<double(int)>& cost, int a, int b) const {
+        const int h = s_.find_half_edge(a, b);
+        return cost ? cost(h) : s_.length(h);
+    }
+
+    // Shortest path leaving x through `from_sector` and reaching y through `to_sector` (vertices
+    // of the sectors that are not blocked). Returns the interior vertices, or empty.
+    std::vector<int> sector_path(int x, const std::vector<int>& from_sector, int y, const std::vector<int>& to_sector,
+                                 const std::vector<char>& block, const std::function<double(int)>& cost,
+                                 double* total) const {
+        PathSearch q;
+        q.blocked = &block;
+        q.cost = cost;
+        for (int n : from_sector)
+            if (!block[n]) q.sources.push_back({n, edge_cost(cost, x, n)});
+        for (int n : to_sector)
+            if (!block[n]) q.targets.push_back({n, edge_cost(cost, n, y)});
+        if (q.sources.empty() || q.targets.empty()) return {};
+        const PathResult r = detail::dijkstra(s_, q);
+        if (r.target < 0) return {};
+        if (total) *total = r.target_cost;
+        return r.path_to(s_, r.target);
+    }
+};
+
+// Step 1: a1..ag, disjoint, with independent homology classes, each the shortest found.
+std::vector<Cycle> independent_loops(Builder& b, int genus, std::vector<double>* lengths) {
+    int generators = 0;
+    const std::vector<Class> mask = homology_masks(b.s_, &generators);
+    QC_CHECK(generators == 2 * genus, "tree-cotree found " + std::to_string(generators) + " generators for genus " +
+                                          std::to_string(genus));
+    const std::vector<int> roots = farthest_point_samples(b.s_.mesh(), b.o_.root_samples);
+    Span span;
+    std::vector<Cycle> loops;
+    std::vector<char> block(b.s_.num_vertices(), 0);
+    for (int i = 0; i < genus; ++i) {
+        double best = kInf;
+        int best_root = -1, best_h = -1;
+        for (int root : roots) {
+            if (block[root]) continue;
+            PathSearch q;
+            q.sources = {{root, 0.0}};
+            q.blocked = &block;
+            const PathResult r = detail::dijkstra(b.s_, q);
+            const std::vector<Class> H = path_classes(b.s_, r, mask);
+            for (int h = 0; h < b.s_.num_half_edges(); ++h) {
+                const int u = b.s_.from(h), v = b.s_.to(h);
+                if (u > v || r.distance[u] == kInf || r.distance[v] == kInf) continue;
+                if (r.parent_half_edge[v] == h || r.parent_half_edge[u] == b.s_.twin(h)) continue;
+                const double len = r.distance[u] + r.distance[v] + b.s_.length(h);
+                if (len >= best) continue;
+                if (span.contains(H[u] ^ H[v] ^ mask[h])) continue;
+                best = len;
+                best_root = root;
+                best_h = h;
+            }
+        }
+        QC_CHECK(best_h >= 0, "no non-separating loop found for handle " + std::to_string(i + 1));
+        PathSearch q;
+        q.sources = {{best_root, 0.0}};
+        q.blocked = &block;
+        const PathResult r = detail::dijkstra(b.s_, q);
+        const Cycle loop = loop_through(b.s_, r, best_h);
+        Class c;
+        for (size_t k = 0; k < loop.size(); ++k)
+            c ^= mask[b.s_.find_half_edge(loop[k], loop[(k + 1) % loop.size()])];
+        QC_CHECK(!span.contains(c), "trimmed loop lost its homology class");
+        span.add(c);
+        for (int v : loop) block[v] = 1;
+        lengths->push_back(cycle_length(b.s_.mesh(), loop));
+        loops.push_back(loop);
+    }
+    return loops;
+}
+
+// Step 2: order the loops along a short Hamiltonian path of loop-to-loop distances, starting
+// with the end whose loop is shorter (it stays in the system as a1).
+std::vector<int> chain_order(const Builder& b, const std::vector<Cycle>& loops) {
+    const int g = static_cast<int>(loops.size());
+    std::vector<std::vector<double>> D(g, std::vector<double>(g, 0));
+    for (int i = 0; i < g; ++i) {
+        PathSearch q;
+        for (int v : loops[i]) q.sources.push_back({v, 0.0});
+        const PathResult r = detail::dijkstra(b.s_, q);
+        for (int j = 0; j < g; ++j) {
+            double d = kInf;
+            for (int v : loops[j]) d = std::min(d, r.distance[v]);
+            D[i][j] = d;
+        }
+    }
+    for (int i = 0; i < g; ++i)
+        for (int j = 0; j < i; ++j) D[i][j] = D[j][i] = std::min(D[i][j], D[j][i]);
+    std::vector<int> order;
+    if (g <= 14) {  // exact: DP over subsets
+        const int full = 1 << g;
+        std::vector<double> cost(static_cast<size_t>(full) * g, kInf);
+        std::vector<int> prev(static_cast<size_t>(full) * g, -1);
+        for (int i = 0; i < g; ++i) cost[(1u << i) * g + i] = 0;
+        for (int m = 1; m < full; ++m)
+            for (int i = 0; i < g; ++i) {
+                const double c = cost[static_cast<size_t>(m) * g + i];
+                if (c == kInf) continue;
+                for (int j = 0; j < g; ++j) {
+                    if (m & (1 << j)) continue;
+                    const size_t k = static_cast<size_t>(m | (1 << j)) * g + j;
+                    if (c + D[i][j] < cost[k]) {
+                        cost[k] = c + D[i][j];
+                        prev[k] = i;
+                    }
+                }
+            }
+        int end = 0;
+        for (int i = 1; i < g; ++i)
+            if (cost[static_cast<size_t>(full - 1) * g + i] < cost[static_cast<size_t>(full - 1) * g + end]) end = i;
+        for (int m = full - 1, i = end; i >= 0;) {
+            order.push_back(i);
+            const int p = prev[static_cast<size_t>(m) * g + i];
+            m &= ~(1 << i);
+            i = p;
+        }
+    } else {  // greedy nearest neighbour from every start, keep the shortest
+        double best = kInf;
+        for (int s = 0; s < g; ++s) {
+            std::vector<int> o{s};
+            std::vector<char> used(g, 0);
+            used[s] = 1;
+            double total = 0;
+            while (static_cast<int>(o.size()) < g) {
+                int nxt = -1;
+                for (int j = 0; j < g; ++j)
+                    if (!used[j] && (nxt < 0 || D[o.back()][j] < D[o.back()][nxt])) nxt = j;
+                total += D[o.back()][nxt];
+                used[nxt] = 1;
+                o.push_back(nxt);
+            }
+            if (total < best) {
+                best = total;
+                order = o;
+            }
+        }
+    }
+    const Mesh& m = b.s_.mesh();
+    if (cycle_length(m, loops[order.back()]) < cycle_length(m, loops[order.front()]))
+        std::reverse(order.begin(), order.end());
+    return order;
+}
+
+// Up to k vertices spread evenly along a curve, skipping those `skip` rejects.
+std::vector<int> spread(const Cycle& c, int k, const std::function<bool(int)>& skip) {
+    std::vector<int> ok;
+    for (int v : c)
+        if (!skip(v)) ok.push_back(v);
+    std::vector<int> out;
+    const int n = static_cast<int>(ok.size());
+    for (int i = 0; i < std::min(k, n); ++i) out.push_back(ok[static_cast<size_t>(i) * n / std::min(k, n)]);
+    return out;
+}
+
+}  // namespace
+
+std::string OrthogonalSystemOptions::validate() const {
+    if (root_samples < 1) return "root_samples must be >= 1";
+    if (crossing_candidates < 1) return "crossing_candidates must be >= 1";
+    if (repulsion < 0) return "repulsion must be >= 0";
+    if (!(repulsion_radius > 0)) return "repulsion_radius must be > 0";
+    if (max_genus < 1 || max_genus > 64) return "max_genus must be in 1..64";
+    return "";
+}
+
+double cycle_length(const Mesh& mesh, const Cycle& c) {
+    double len = 0;
+    for (size_t i = 0; i < c.size(); ++i) len += norm(mesh.points[c[(i + 1) % c.size()]] - mesh.points[c[i]]);
+    return len;
+}
+
+OrthogonalSystem build_orthogonal_system(const Mesh& mesh, const OrthogonalSystemOptions& options) {
+    if (const std::string e = options.validate(); !e.empty()) throw InvalidInput("orthogonal system options: " + e);
+    const ValidationReport report = validate(mesh);
+    if (!report.quaddable() || report.components.size() != 1)
+        throw InvalidInput("build_orthogonal_system needs one closed, manifold, orientable component: " +
+                           (report.components.size() > 1 ? std::string("the mesh has ") +
+                                                               std::to_string(report.components.size()) + " components"
+                                                         : report.error_summary()));
+    if (!report.components[0].consistently_oriented)
+        throw InvalidInput("build_orthogonal_system: triangles are not consistently oriented (call orient_outward)");
+    if (report.unused_vertices > 0)
+        throw InvalidInput("build_orthogonal_system: the mesh has unused vertices (call remove_unused_vertices)");
+    const int g = report.components[0].genus;
+    if (g > options.max_genus)
+        throw InvalidInput("genus " + std::to_string(g) + " exceeds the supported maximum " +
+                           std::to_string(options.max_genus));
+
+    OrthogonalSystem out;
+    out.input_vertices = mesh.num_vertices();
+    out.genus = g;
+    if (g == 0) {
+        out.mesh = mesh;
+        return out;
+    }
+    auto say = [&options](const std::string& m) {
+        if (options.progress) options.progress(m);
+    };
+    Builder b(mesh, options);
+    say("handle loops (genus " + std::to_string(g) + ")");
+    const std::vector<Cycle> loops = independent_loops(b, g, &out.handle_lengths);
+    std::sort(out.handle_lengths.begin(), out.handle_lengths.end());
+    const std::vector<int> order = chain_order(b, loops);
+    // Curves: the g loops in chain order first, then the b's and c's as they come.
+    for (int i : order) {
+        b.curves_.push_back(loops[i]);
+        b.obstacle_.push_back(1);
+    }
+    std::vector<int> b_index(g), c_index;
+
+    // Step 3: b_i crosses a_i once and avoids every other curve so far.
+    for (int i = 0; i < g; ++i) {
+        say("crossing curve b" + std::to_string(i + 1) + " of " + std::to_string(g));
+        std::fill(b.obstacle_.begin(), b.obstacle_.end(), 1);
+        b.split_chords();
+        const std::vector<char> block = b.blocked();
+        const auto cost = b.cost_near(block);
+        const Cycle& a = b.curves_[i];
+        double best = kInf;
+        Cycle best_b;
+        for (int x : spread(a, options.crossing_candidates, [](int) { return false; })) {
+            const auto [p, n] = neighbours_on(a, x);
+            const auto sec = sectors(b.s_, x, p, n);
+            double total = kInf;
+            std::vector<int> path = b.sector_path(x, sec[0], x, sec[1], block, cost, &total);
+            if (path.empty() || total >= best) continue;
+            best = total;
+            best_b = {x};
+            best_b.insert(best_b.end(), path.begin(), path.end());
+        }
+        QC_CHECK(!best_b.empty(), "no curve crosses handle loop " + std::to_string(i + 1) + " once");
+        b_index[i] = static_cast<int>(b.curves_.size());
+        b.curves_.push_back(best_b);
+        b.obstacle_.push_back(1);
+    }
+
+    // Step 4: c_i crosses b_i and b(i+1) once each, avoiding a1, every b and the earlier c's.
+    auto final_count = [&](int v) {
+        int k = 0;
+        for (size_t c = 0; c < b.curves_.size(); ++c)
+            if ((c == 0 || c >= static_cast<size_t>(g)) &&
+                std::find(b.curves_[c].begin(), b.curves_[c].end(), v) != b.curves_[c].end())
+                ++k;
+        return k;
+    };
+    for (int i = 0; i + 1 < g; ++i) {
+        say("joining curve c" + std::to_string(i + 1) + " of " + std::to_string(g - 1));
+        for (size_t c = 0; c < b.curves_.size(); ++c) b.obstacle_[c] = c == 0 || c >= static_cast<size_t>(g);
+        b.split_chords();
+        std::vector<char> block = b.blocked();
+        auto cost = b.cost_near(block);
+        const Cycle &bi = b.curves_[b_index[i]], &bj = b.curves_[b_index[i + 1]];
+        const auto skip = [&](int v) { return final_count(v) != 1; };
+        const std::vector<int> xs = spread(bi, options.crossing_candidates, skip);
+        const std::vector<int> ys = spread(bj, options.crossing_candidates, skip);
+        QC_CHECK(!xs.empty() && !ys.empty(), "no free crossing vertex on b" + std::to_string(i + 1));
+        // Distances from each (x, side) to each (y, side): one search per (x, side).
+        struct Option {
+            double cost;
+            int x, s, y, t;
+        };
+        std::vector<Option> options_found;
+        std::vector<std::vector<std::array<double, 2>>> D(xs.size() * 2,
+                                                          std::vector<std::array<double, 2>>(ys.size(), {kInf, kInf}));
+        for (size_t xi = 0; xi < xs.size(); ++xi) {
+            const auto [p, n] = neighbours_on(bi, xs[xi]);
+            const auto sec = sectors(b.s_, xs[xi], p, n);
+            for (int s = 0; s < 2; ++s) {
+                PathSearch q;
+                q.blocked = &block;
+                q.cost = cost;
+                for (int w : sec[s])
+                    if (!block[w]) q.sources.push_back({w, b.edge_cost(cost, xs[xi], w)});
+                if (q.sources.empty()) continue;
+                const PathResult r = detail::dijkstra(b.s_, q);
+                for (size_t yi = 0; yi < ys.size(); ++yi) {
+                    const auto [py, ny] = neighbours_on(bj, ys[yi]);
+                    const auto secy = sectors(b.s_, ys[yi], py, ny);
+                    for (int t = 0; t < 2; ++t)
+                        for (int w : secy[t])
+                            if (!block[w] && r.distance[w] < kInf)
+                                D[xi * 2 + s][yi][t] =
+                                    std::min(D[xi * 2 + s][yi][t], r.distance[w] + b.edge_cost(cost, w, ys[yi]));
+                }
+            }
+        }
+        for (size_t xi = 0; xi < xs.size(); ++xi)
+            for (size_t yi = 0; yi < ys.size(); ++yi)
+                for (int s = 0; s < 2; ++s)
+                    for (int t = 0; t < 2; ++t) {
+                        const double c = D[xi * 2 + s][yi][t] + D[xi * 2 + 1 - s][yi][1 - t];
+                        if (c < kInf)
+                            options_found.push_back({c, static_cast<int>(xi), s, static_cast<int>(yi), t});
+                    }
+        std::sort(options_found.begin(), options_found.end(), [](const Option& l, const Option& r) {
+            return l.cost != r.cost ? l.cost < r.cost : std::tie(l.x, l.s, l.y, l.t) < std::tie(r.x, r.s, r.y, r.t);
+        });
+        Cycle ci;
+        for (size_t k = 0; k < options_found.size() && k < 64 && ci.empty(); ++k) {
+            const Option& op = options_found[k];
+            const int x = xs[op.x], y = ys[op.y];
+            auto sec_of = [&](const Cycle& curve, int v) {
+                const auto [p, n] = neighbours_on(curve, v);
+                return sectors(b.s_, v, p, n);
+            };
+            if (k > 0) {  // an earlier try split chords: the mesh changed
+                block = b.blocked();
+                cost = b.cost_near(block);
+            }
+            const std::vector<int> first =
+                b.sector_path(x, sec_of(bi, x)[op.s], y, sec_of(bj, y)[op.t], block, cost, nullptr);
+            if (first.empty()) continue;
+            // Cut along the first half before routing the second, so that the two cannot touch.
+            Cycle half{x};
+            half.insert(half.end(), first.begin(), first.end());
+            half.push_back(y);
+            b.split_chords({half});
+            std::vector<char> block2 = b.blocked();
+            for (int v : first) block2[v] = 1;
+            const auto cost2 = b.cost_near(block2);
+            const std::vector<int> second =
+                b.sector_path(y, sec_of(bj, y)[1 - op.t], x, sec_of(bi, x)[1 - op.s], block2, cost2, nullptr);
+            if (second.empty()) continue;
+            ci = half;
+            ci.insert(ci.end(), second.begin(), second.end());
+        }
+        QC_CHECK(!ci.empty(), "no curve joins b" + std::to_string(i + 1) + " and b" + std::to_string(i + 2));
+        c_index.push_back(static_cast<int>(b.curves_.size()));
+        b.curves_.push_back(ci);
+        b.obstacle_.push_back(1);
+    }
+
+    out.cycles.push_back(b.curves_[0]);
+    for (int i = 0; i < g; ++i) {
+        out.cycles.push_back(b.curves_[b_index[i]]);
+        if (i + 1 < g) out.cycles.push_back(b.curves_[c_index[i]]);
+    }
+    out.refinement_splits = b.splits_;
+    out.mesh = b.s_.mesh();
+    say("verifying");
+    const std::string problem = verify_orthogonal_system(out.mesh, out.cycles);
+    QC_CHECK(problem.empty(), "the orthogonal system fails its own check: " + problem);
+    return out;
+}
+
+std::string verify_orthogonal_system(const Mesh& mesh, const std::vector<Cycle>& cycles) {
+    const ValidationReport r = validate(mesh);
+    if (r.components.size() != 1 || !r.components[0].quaddable()) return "the mesh is not one closed orientable surface";
+    const int g = r.components[0].genus;
+    if (static_cast<int>(cycles.size()) != 2 * g)
+        return std::to_string(cycles.size()) + " cycles for genus " + std::to_string(g) + " (want 2g)";
+    const Surface s(mesh);
+    const int n = s.num_vertices();
+    std::vector<std::unordered_set<std::uint64_t>> edges(cycles.size());
+    for (size_t i = 0; i < cycles.size(); ++i) {
+        const Cycle& c = cycles[i];
+        if (c.size() < 3) return "cycle " + std::to_string(i) + " has fewer than 3 vertices";
+        std::set<int> distinct(c.begin(), c.end());
+        if (distinct.size() != c.size()) return "cycle " + std::to_string(i) + " is not simple";
+        for (size_t k = 0; k < c.size(); ++k) {
+            const int a = c[k], b = c[(k + 1) % c.size()];
+            if (a < 0 || a >= n || b < 0 || b >= n || s.find_half_edge(a, b) < 0)
+                return "cycle " + std::to_string(i) + " leaves the mesh edges at position " + std::to_string(k);
+            edges[i].insert(edge_key(a, b));
+        }
+    }
+    for (size_t i = 0; i < cycles.size(); ++i)
+        for (size_t j = i + 1; j < cycles.size(); ++j) {
+            std::vector<int> common;
+            std::set<int> si(cycles[i].begin(), cycles[i].end());
+            for (int v : cycles[j])
+                if (si.count(v)) common.push_back(v);
+            if (j == i + 1) {
+                if (common.size() != 1)
+                    return "cycles " + std::to_string(i) + " and " + std::to_string(j) + " share " +
+                           std::to_string(common.size()) + " vertices (want 1)";
+                const int x = common[0];
+                const auto [p, q] = neighbours_on(cycles[i], x);
+                const auto sec = sectors(s, x, p, q);
+                const auto [p2, q2] = neighbours_on(cycles[j], x);
+                auto side = [&](int v) {
+                    return std::find(sec[0].begin(), sec[0].end(), v) != sec[0].end()   ? 0
+                           : std::find(sec[1].begin(), sec[1].end(), v) != sec[1].end() ? 1
+                                                                                         : -1;
+                };
+                const int s1 = side(p2), s2 = side(q2);
+                if (s1 < 0 || s2 < 0 || s1 == s2)
+                    return "cycles " + std::to_string(i) + " and " + std::to_string(j) + " touch at vertex " +
+                           std::to_string(x) + " without crossing";
+            } else if (!common.empty()) {
+                return "cycles " + std::to_string(i) + " and " + std::to_string(j) + " are not consecutive but share " +
+                       std::to_string(common.size()) + " vertices";
+            }
+        }
+    // Face components of the surface cut along a set of edges.
+    auto face_components = [&](const std::unordered_set<std::uint64_t>& cut) {
+        const int nt = mesh.num_triangles();
+        std::vector<int> comp(nt, -1);
+        int count = 0;
+        for (int f0 = 0; f0 < nt; ++f0) {
+            if (comp[f0] >= 0) continue;
+            std::vector<int> stack{f0};
+            comp[f0] = count;
+            while (!stack.empty()) {
+                const int f = stack.back();
+                stack.pop_back();
+                for (int k = 0; k < 3; ++k) {
+                    const int h = 3 * f + k;
+                    if (cut.count(edge_key(s.from(h), s.to(h)))) continue;
+                    const int o = s.twin(h) / 3;
+                    if (comp[o] < 0) {
+                        comp[o] = count;
+                        stack.push_back(o);
+                    }
+                }
+            }
+            ++count;
+        }
+        return count;
+    };
+    for (size_t i = 0; i < cycles.size(); ++i)
+        if (face_components(edges[i]) != 1) return "cycle " + std::to_string(i) + " separates the surface";
+    std::unordered_set<std::uint64_t> all;
+    std::set<int> verts;
+    for (size_t i = 0; i < cycles.size(); ++i) {
+        all.insert(edges[i].begin(), edges[i].end());
+        verts.insert(cycles[i].begin(), cycles[i].end());
+    }
+    if (face_components(all) != 1) return "the cycles together separate the surface";
+    const long chi = static_cast<long>(verts.size()) - static_cast<long>(all.size());
+    if (chi != 1 - 2 * g)
+        return "the cycles do not form a cutting graph: chi(G) = " + std::to_string(chi) + ", want " +
+               std::to_string(1 - 2 * g);
+    return "";
+}
+
+}  // namespace quadcage::layout

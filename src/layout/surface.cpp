@@ -1,0 +1,192 @@
+#include "detail/surface.h"
+
+#include <algorithm>
+#include <limits>
+#include <map>
+#include <queue>
+
+#include "quadcage/core/errors.h"
+
+namespace quadcage::layout::detail {
+
+Surface::Surface(Mesh mesh) : mesh_(std::move(mesh)) { rebuild(); }
+
+void Surface::rebuild() {
+    const int n = num_vertices();
+    const int nh = num_half_edges();
+    // Outgoing half-edges per vertex (CSR), then the twin of a->b is the half-edge b->a.
+    std::vector<int> start(n + 1, 0);
+    for (int h = 0; h < nh; ++h) ++start[from(h) + 1];
+    for (int v = 0; v < n; ++v) start[v + 1] += start[v];
+    std::vector<int> fill(start.begin(), start.end() - 1), outs(nh);
+    for (int h = 0; h < nh; ++h) outs[fill[from(h)]++] = h;
+    twin_.assign(nh, -1);
+    out_.assign(n, -1);
+    for (int h = 0; h < nh; ++h) {
+        const int a = from(h), b = to(h);
+        if (out_[a] < 0) out_[a] = h;
+        for (int i = start[b]; i < start[b + 1]; ++i)
+            if (to(outs[i]) == a) {
+                QC_CHECK(twin_[h] < 0, "Surface: edge used twice in one direction (not manifold/oriented)");
+                twin_[h] = outs[i];
+            }
+        QC_CHECK(twin_[h] >= 0, "Surface: open edge (the surface must be closed)");
+    }
+}
+
+std::vector<int> Surface::out_half_edges(int v) const {
+    std::vector<int> hs;
+    const int h0 = out_[v];
+    int h = h0;
+    do {
+        hs.push_back(h);
+        h = rotate(h);
+        QC_CHECK(hs.size() < 100000, "Surface: vertex ring does not close");
+    } while (h != h0);
+    return hs;
+}
+
+std::vector<int> Surface::ring(int v) const {
+    std::vector<int> r;
+    for (int h : out_half_edges(v)) r.push_back(to(h));
+    return r;
+}
+
+int Surface::find_half_edge(int a, int b) const {
+    const int h0 = out_[a];
+    int h = h0;
+    do {
+        if (to(h) == b) return h;
+        h = rotate(h);
+    } while (h != h0);
+    return -1;
+}
+
+std::vector<int> Surface::split_edges(const std::vector<std::pair<int, int>>& edges) {
+    std::map<std::pair<int, int>, int> mid;  // ordered: deterministic vertex numbering
+    std::vector<int> result;
+    result.reserve(edges.size());
+    for (auto [a, b] : edges) {
+        const std::pair<int, int> key{std::min(a, b), std::max(a, b)};
+        auto it = mid.find(key);
+        if (it == mid.end()) {
+            QC_CHECK(find_half_edge(a, b) >= 0, "split_edges: not an edge");
+            it = mid.emplace(key, num_vertices()).first;
+            mesh_.points.push_back((point(a) + point(b)) * 0.5);
+        }
+        result.push_back(it->second);
+    }
+    auto m_of = [&mid](int a, int b) {
+        auto it = mid.find({std::min(a, b), std::max(a, b)});
+        return it == mid.end() ? -1 : it->second;
+    };
+    std::vector<Triangle> out;
+    out.reserve(mesh_.triangles.size() + 3 * mid.size());
+    for (const Triangle& t : mesh_.triangles) {
+        int m[3] = {m_of(t[0], t[1]), m_of(t[1], t[2]), m_of(t[2], t[0])};
+        const int count = (m[0] >= 0) + (m[1] >= 0) + (m[2] >= 0);
+        if (count == 0) {
+            out.push_back(t);
+            continue;
+        }
+        if (count == 3) {
+            out.push_back({t[0], m[0], m[2]});
+            out.push_back({m[0], t[1], m[1]});
+            out.push_back({m[2], m[1], t[2]});
+            out.push_back({m[0], m[1], m[2]});
+            continue;
+        }
+        // Rotate so that the split edges come first: edge 0 (count 1) or edges 0 and 1 (count 2).
+        int r = 0;
+        if (count == 1) r = m[0] >= 0 ? 0 : (m[1] >= 0 ? 1 : 2);
+        else r = m[2] < 0 ? 0 : (m[0] < 0 ? 1 : 2);
+        const int v0 = t[r], v1 = t[(r + 1) % 3], v2 = t[(r + 2) % 3];
+        const int m01 = m[r], m12 = m[(r + 1) % 3];
+        if (count == 1) {
+            out.push_back({v0, m01, v2});
+            out.push_back({m01, v1, v2});
+        } else {
+            out.push_back({m01, v1, m12});
+            out.push_back({v0, m01, m12});
+            out.push_back({v0, m12, v2});
+        }
+    }
+    mesh_.triangles = std::move(out);
+    rebuild();
+    return result;
+}
+
+void insert_midpoints(std::vector<std::vector<int>>& curves, const std::vector<std::array<int, 3>>& split) {
+    if (split.empty()) return;
+    std::map<std::pair<int, int>, int> mid;
+    for (const auto& s : split) mid[{std::min(s[0], s[1]), std::max(s[0], s[1])}] = s[2];
+    for (std::vector<int>& c : curves) {
+        std::vector<int> out;
+        out.reserve(c.size());
+        for (size_t i = 0; i < c.size(); ++i) {
+            const int a = c[i], b = c[(i + 1) % c.size()];
+            out.push_back(a);
+            auto it = mid.find({std::min(a, b), std::max(a, b)});
+            if (it != mid.end()) out.push_back(it->second);
+        }
+        c = std::move(out);
+    }
+}
+
+std::vector<int> PathResult::path_to(const Surface& s, int v) const {
+    std::vector<int> path{v};
+    while (parent_half_edge[v] >= 0) {
+        v = s.from(parent_half_edge[v]);
+        path.push_back(v);
+    }
+    std::reverse(path.begin(), path.end());
+    return path;
+}
+
+PathResult dijkstra(const Surface& s, const PathSearch& q) {
+    const int n = s.num_vertices();
+    const double inf = std::numeric_limits<double>::infinity();
+    PathResult r;
+    r.distance.assign(n, inf);
+    r.parent_half_edge.assign(n, -1);
+    std::vector<double> arrival(n, inf);
+    for (auto [v, c] : q.targets) arrival[v] = std::min(arrival[v], c);
+    using Item = std::pair<double, int>;
+    std::priority_queue<Item, std::vector<Item>, std::greater<Item>> heap;
+    for (auto [v, c] : q.sources)
+        if (c < r.distance[v]) {
+            r.distance[v] = c;
+            heap.push({c, v});
+        }
+    double best = inf;
+    std::vector<char> done(n, 0);
+    while (!heap.empty()) {
+        auto [d, v] = heap.top();
+        heap.pop();
+        if (done[v]) continue;
+        done[v] = 1;
+        if (!q.targets.empty() && d >= best) break;
+        if (arrival[v] < inf && d + arrival[v] < best) {
+            best = d + arrival[v];
+            r.target = v;
+        }
+        const int h0 = s.out_half_edge(v);
+        int h = h0;
+        do {
+            const int w = s.to(h);
+            if (!done[w] && !(q.blocked && (*q.blocked)[w])) {
+                const double nd = d + (q.cost ? q.cost(h) : s.length(h));
+                if (nd < r.distance[w]) {
+                    r.distance[w] = nd;
+                    r.parent_half_edge[w] = h;
+                    heap.push({nd, w});
+                }
+            }
+            h = s.rotate(h);
+        } while (h != h0);
+    }
+    r.target_cost = best;
+    return r;
+}
+
+}  // namespace quadcage::layout::detail

@@ -1,0 +1,221 @@
+// End-to-end tests of the quadcage executable: exit codes, messages and JSON output.
+
+#include <gtest/gtest.h>
+
+#include <cctype>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <sys/wait.h>
+
+#include "quadcage/core/io.h"
+#include "quadcage/core/shapes.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Outcome {
+    int code = -1;
+    std::string out, err;
+};
+
+std::string slurp(const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+fs::path scratch_dir() {
+    const fs::path dir = fs::temp_directory_path() / ("quadcage_cli_test_" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    return dir;
+}
+
+// Runs the CLI with `args` (already shell-quoted where needed).
+Outcome quadcage(const std::string& args) {
+    const fs::path dir = scratch_dir();
+    const fs::path out = dir / "stdout.txt", err = dir / "stderr.txt";
+    const std::string cmd = std::string("'") + QUADCAGE_CLI + "' " + args + " >'" + out.string() + "' 2>'" +
+                            err.string() + "' </dev/null";
+    const int status = std::system(cmd.c_str());
+    Outcome r;
+    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    r.out = slurp(out);
+    r.err = slurp(err);
+    return r;
+}
+
+std::string shared_mesh(const std::string& name) {
+    return std::string(QUADCAGE_SHARED_DIR) + "/data/meshes/" + name;
+}
+
+template <class Case>
+std::string case_name(const ::testing::TestParamInfo<Case>& info) {
+    std::string name = info.param.file;
+    for (char& ch : name)
+        if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
+    return name;
+}
+
+bool have_shared() { return fs::exists(shared_mesh("eight.off")); }
+
+int count_lines(const std::string& s) {
+    int n = 0;
+    for (char c : s) n += c == '\n';
+    return n;
+}
+
+struct GenusCase {
+    const char* file;
+    int genus;
+};
+
+class CliInfoValid : public ::testing::TestWithParam<GenusCase> {};
+
+TEST_P(CliInfoValid, ReportsTheDocumentedGenus) {
+    if (!have_shared()) GTEST_SKIP() << "shared meshes not found";
+    const Outcome r = quadcage("info --json '" + shared_mesh(GetParam().file) + "'");
+    ASSERT_EQ(r.code, 0) << r.err;
+    const nlohmann::json j = nlohmann::json::parse(r.out);
+    ASSERT_EQ(j["components"].size(), 1u);
+    EXPECT_EQ(j["components"][0]["genus"], GetParam().genus);
+    EXPECT_EQ(j["components"][0]["closed"], true);
+    EXPECT_EQ(j["components"][0]["manifold"], true);
+    EXPECT_EQ(j["components"][0]["orientable"], true);
+    const int g = GetParam().genus;
+    EXPECT_EQ(j["minimal_quads"], g == 0 ? 6 : (g == 1 ? 4 : 10 * g - 10));
+    EXPECT_EQ(j["quaddable"], true);
+    EXPECT_GT(j["bbox_diagonal"].get<double>(), 0.0);
+    EXPECT_GT(j["triangles"].get<int>(), 0);
+    EXPECT_GT(j["vertices"].get<int>(), 0);
+    EXPECT_TRUE(r.err.empty()) << r.err;
+}
+
+INSTANTIATE_TEST_SUITE_P(Shared, CliInfoValid,
+                         ::testing::Values(GenusCase{"bunny.obj", 0}, GenusCase{"igea.ply", 0},
+                                           GenusCase{"kitten.off", 1}, GenusCase{"torus.obj", 1},
+                                           GenusCase{"eight.off", 2}, GenusCase{"skull.obj", 2},
+                                           GenusCase{"3holes.off", 3}, GenusCase{"fertility.off", 4},
+                                           GenusCase{"botijo.off", 5}, GenusCase{"input_wheel.off", 11},
+                                           GenusCase{"boot.obj", 12}),
+                         case_name<GenusCase>);
+
+struct BadCase {
+    const char* file;
+    const char* problem;  // must appear in the one-line error
+};
+
+class CliInfoInvalid : public ::testing::TestWithParam<BadCase> {};
+
+TEST_P(CliInfoInvalid, ExitsThreeAndNamesTheProblem) {
+    if (!have_shared()) GTEST_SKIP() << "shared meshes not found";
+    const std::string path = shared_mesh(GetParam().file);
+    const Outcome r = quadcage("info '" + path + "'");
+    EXPECT_EQ(r.code, 3);
+    EXPECT_EQ(count_lines(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find(GetParam().file), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find(GetParam().problem), std::string::npos) << r.err;
+    // The full description still goes to stdout, and --json is valid JSON saying why.
+    EXPECT_NE(r.out.find("cannot be quadded"), std::string::npos);
+    const Outcome j = quadcage("info --json '" + path + "'");
+    EXPECT_EQ(j.code, 3);
+    const nlohmann::json doc = nlohmann::json::parse(j.out);
+    EXPECT_EQ(doc["quaddable"], false);
+    EXPECT_FALSE(doc["issues"].empty());
+}
+
+INSTANTIATE_TEST_SUITE_P(Shared, CliInfoInvalid,
+                         ::testing::Values(BadCase{"stanford-bunny.obj", "open"},
+                                           BadCase{"cow.obj", "pinched"},
+                                           BadCase{"truck.obj", "non-manifold"}),
+                         case_name<BadCase>);
+
+TEST(CliInfo, TruckReportsItsComponents) {
+    if (!have_shared()) GTEST_SKIP() << "shared meshes not found";
+    const Outcome r = quadcage("info --json '" + shared_mesh("truck.obj") + "'");
+    EXPECT_EQ(r.code, 3);
+    const nlohmann::json j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["components"].size(), 50u);
+    EXPECT_GT(j["counts"]["non_manifold_edges"].get<int>(), 0);
+    EXPECT_GT(j["counts"]["boundary_loops"].get<int>(), 0);
+}
+
+TEST(CliInfo, TruncatedBinaryPlyExitsThree) {
+    const fs::path dir = scratch_dir();
+    const fs::path good = dir / "sphere.ply", bad = dir / "truncated.ply";
+    quadcage::write_ply(good.string(), quadcage::shapes::icosphere(3));
+    const std::string bytes = slurp(good);
+    std::ofstream(bad, std::ios::binary) << bytes.substr(0, bytes.size() * 2 / 3);
+    const Outcome r = quadcage("info '" + bad.string() + "'");
+    EXPECT_EQ(r.code, 3);
+    EXPECT_EQ(count_lines(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find("truncated.ply"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("truncated"), std::string::npos) << r.err;
+}
+
+TEST(CliInfo, EmptyFileExitsThree) {
+    const fs::path empty = scratch_dir() / "empty.obj";
+    std::ofstream(empty).close();
+    const Outcome r = quadcage("info '" + empty.string() + "'");
+    EXPECT_EQ(r.code, 3);
+    EXPECT_EQ(count_lines(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find("empty.obj"), std::string::npos) << r.err;
+}
+
+TEST(CliInfo, MissingFileExitsThree) {
+    const Outcome r = quadcage("info '" + (scratch_dir() / "no-such-file.off").string() + "'");
+    EXPECT_EQ(r.code, 3);
+    EXPECT_NE(r.err.find("no-such-file.off"), std::string::npos) << r.err;
+}
+
+TEST(CliInfo, NanCoordinatesExitThree) {
+    const fs::path nan = scratch_dir() / "nan.obj";
+    std::ofstream(nan) << "v 0 0 0\nv 1 0 0\nv 0 nan 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+    const Outcome r = quadcage("info '" + nan.string() + "'");
+    EXPECT_EQ(r.code, 3);
+    EXPECT_EQ(count_lines(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find("NaN"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("nan.obj"), std::string::npos) << r.err;
+}
+
+TEST(CliInfo, GeneratedPlatesHaveTheirGenus) {
+    const fs::path dir = scratch_dir();
+    for (int g : {0, 2, 7}) {
+        const fs::path file = dir / ("plate" + std::to_string(g) + ".obj");
+        const Outcome gen = quadcage("generate plate --genus " + std::to_string(g) + " -o '" + file.string() + "'");
+        ASSERT_EQ(gen.code, 0) << gen.err;
+        const Outcome r = quadcage("info --json '" + file.string() + "'");
+        ASSERT_EQ(r.code, 0) << r.err;
+        EXPECT_EQ(nlohmann::json::parse(r.out)["components"][0]["genus"], g);
+    }
+}
+
+TEST(CliUsage, BadUsageExitsTwo) {
+    EXPECT_EQ(quadcage("").code, 2);
+    EXPECT_EQ(quadcage("frobnicate").code, 2);
+    EXPECT_EQ(quadcage("info").code, 2);
+    EXPECT_EQ(quadcage("info a.off --no-such-flag").code, 2);
+    EXPECT_EQ(quadcage("generate cube -o x.obj").code, 2);
+}
+
+TEST(CliUsage, HelpExitsZeroAndListsCommands) {
+    const Outcome r = quadcage("--help");
+    EXPECT_EQ(r.code, 0);
+    EXPECT_NE(r.out.find("info"), std::string::npos);
+    EXPECT_NE(r.out.find("Exit codes"), std::string::npos);
+}
+
+TEST(CliVersion, EveryLibraryAnswers) {
+    const Outcome r = quadcage("version");
+    ASSERT_EQ(r.code, 0) << r.err;
+    for (const char* lib : {"OpenMesh", "OpenSubdiv", "Embree", "Ceres"})
+        EXPECT_NE(r.out.find(lib), std::string::npos) << lib << " missing in:\n" << r.out;
+    EXPECT_EQ(r.out.find("FAILED"), std::string::npos) << r.out;
+}
+
+}  // namespace

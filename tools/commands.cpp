@@ -1,0 +1,268 @@
+#include "commands.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <functional>
+#include <iostream>
+#include <nlohmann/json.hpp>
+
+#include "quadcage/accel/closest_point.h"
+#include "quadcage/core/errors.h"
+#include "quadcage/core/io.h"
+#include "quadcage/core/openmesh_bridge.h"
+#include "quadcage/core/shapes.h"
+#include "quadcage/core/validate.h"
+#include "quadcage/fit/backend.h"
+#include "quadcage/layout/orthogonal_system.h"
+#include "quadcage/subdiv/catmull_clark.h"
+
+namespace quadcage::cli {
+namespace {
+
+using nlohmann::json;
+
+const char* severity_name(ValidationIssue::Severity s) {
+    return s == ValidationIssue::Severity::error ? "error" : "warning";
+}
+
+json info_json(const std::string& path, const LoadInfo& load, const ValidationReport& r) {
+    json j;
+    j["file"] = path;
+    j["format"] = load.format;
+    j["vertices"] = r.vertices_used;
+    j["vertices_in_file"] = r.vertices_in_file;
+    j["unused_vertices"] = r.unused_vertices;
+    j["triangles"] = r.triangles;
+    j["polygons_split"] = load.polygons_split;
+    j["welded_vertices"] = load.welded_vertices;
+    j["bbox_diagonal"] = r.bbox_diagonal;
+    j["quaddable"] = r.quaddable();
+    j["counts"] = {{"non_finite_vertices", r.non_finite_vertices},
+                   {"out_of_range_triangles", r.out_of_range_triangles},
+                   {"repeated_index_triangles", r.repeated_index_triangles},
+                   {"zero_area_triangles", r.zero_area_triangles},
+                   {"duplicate_triangles", r.duplicate_triangles},
+                   {"non_manifold_edges", r.non_manifold_edges},
+                   {"non_manifold_vertices", r.non_manifold_vertices},
+                   {"boundary_edges", r.boundary_edges},
+                   {"boundary_loops", r.boundary_loops},
+                   {"inconsistently_oriented_edges", r.inconsistently_oriented_edges}};
+    json comps = json::array();
+    int total_quads = 0;
+    bool all_quads = true;
+    for (size_t i = 0; i < r.components.size(); ++i) {
+        const ComponentReport& c = r.components[i];
+        json jc{{"index", i},
+                {"vertices", c.vertices},
+                {"triangles", c.triangles},
+                {"edges", c.edges},
+                {"closed", c.closed},
+                {"manifold", c.manifold},
+                {"orientable", c.orientable},
+                {"consistently_oriented", c.consistently_oriented},
+                {"boundary_loops", c.boundary_loops},
+                {"boundary_edges", c.boundary_edges},
+                {"non_manifold_edges", c.non_manifold_edges},
+                {"non_manifold_vertices", c.non_manifold_vertices},
+                {"euler_characteristic", c.euler_characteristic},
+                {"area", c.area}};
+        jc["genus"] = c.genus >= 0 ? json(c.genus) : json(nullptr);
+        jc["minimal_quads"] = c.minimal_quads >= 0 ? json(c.minimal_quads) : json(nullptr);
+        if (c.minimal_quads >= 0) total_quads += c.minimal_quads;
+        else all_quads = false;
+        comps.push_back(jc);
+    }
+    j["components"] = comps;
+    j["minimal_quads"] = all_quads && !r.components.empty() ? json(total_quads) : json(nullptr);
+    json issues = json::array();
+    for (const ValidationIssue& i : r.issues)
+        issues.push_back({{"severity", severity_name(i.severity)}, {"code", i.code}, {"count", i.count},
+                          {"message", i.message}});
+    j["issues"] = issues;
+    return j;
+}
+
+void print_info_text(const std::string& path, const LoadInfo& load, const ValidationReport& r) {
+    std::printf("%s: %s, %d vertices", path.c_str(), load.format.c_str(), r.vertices_used);
+    if (r.unused_vertices) std::printf(" (+%d unused)", r.unused_vertices);
+    std::printf(", %d triangles, %zu component%s, bounding-box diagonal %.6g\n", r.triangles,
+                r.components.size(), r.components.size() == 1 ? "" : "s", r.bbox_diagonal);
+    const size_t shown = std::min<size_t>(r.components.size(), 20);
+    for (size_t i = 0; i < shown; ++i) {
+        const ComponentReport& c = r.components[i];
+        std::printf("  component %zu: %d vertices, %d triangles, %s, %s, %s", i, c.vertices, c.triangles,
+                    c.closed ? "closed" : "open", c.manifold ? "manifold" : "non-manifold",
+                    !c.manifold ? "orientability n/a" : (c.orientable ? "orientable" : "non-orientable"));
+        if (c.boundary_loops) std::printf(", %d boundary loop%s", c.boundary_loops, c.boundary_loops == 1 ? "" : "s");
+        if (c.genus >= 0) std::printf(", genus %d", c.genus);
+        if (c.minimal_quads >= 0) std::printf(" -> minimal cage: %d quads", c.minimal_quads);
+        std::printf("\n");
+    }
+    if (shown < r.components.size()) std::printf("  ... %zu more components\n", r.components.size() - shown);
+    for (const ValidationIssue& i : r.issues) std::printf("  %s: %s\n", severity_name(i.severity), i.message.c_str());
+    std::printf("%s\n", r.quaddable() ? "ok: the mesh can be quadded" : "cannot be quadded (see errors above)");
+}
+
+// Progress lines on stderr: "quadcage: [12.3 s] message".
+class Progress {
+public:
+    explicit Progress(bool quiet) : quiet_(quiet), start_(std::chrono::steady_clock::now()) {}
+    double seconds() const {
+        return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    }
+    void say(const std::string& m) const {
+        if (!quiet_) std::fprintf(stderr, "quadcage: [%6.1f s] %s\n", seconds(), m.c_str());
+    }
+    std::function<void(const std::string&)> callback(const std::string& prefix) const {
+        return [this, prefix](const std::string& m) { say(prefix + m); };
+    }
+
+private:
+    bool quiet_;
+    std::chrono::steady_clock::time_point start_;
+};
+
+std::string output_path(const std::string& dir, const std::string& name) {
+    return (std::filesystem::path(dir) / name).string();
+}
+
+void make_output_dir(const std::string& dir) {
+    std::error_code ec;
+    std::filesystem::create_directories(dir, ec);
+    if (ec || !std::filesystem::is_directory(dir))
+        throw InvalidInput(dir + ": cannot create the output directory (" + ec.message() + ")");
+}
+
+json cycles_json(const std::vector<layout::Cycle>& cycles) {
+    json j = json::array();
+    for (const layout::Cycle& c : cycles) j.push_back(c);
+    return j;
+}
+
+// Handles shorter than this fraction of sqrt(area) are flagged as likely topological noise.
+constexpr double kTinyHandle = 0.02;
+
+}  // namespace
+
+int run_cycles(const CyclesOptions& o) {
+    Progress progress(o.quiet);
+    progress.say("loading " + o.mesh);
+    LoadInfo load;
+    const Mesh input = read_mesh(o.mesh, &load);
+    const PreparedMesh prepared = prepare_for_quadding(input, o.mesh);
+    make_output_dir(o.output_dir);
+    const size_t nc = prepared.components.size();
+    json top;
+    top["input"] = o.mesh;
+    top["components"] = json::array();
+    for (size_t c = 0; c < nc; ++c) {
+        const std::string dir = nc == 1 ? o.output_dir : output_path(o.output_dir, "component_" + std::to_string(c));
+        if (nc > 1) make_output_dir(dir);
+        const std::string tag = nc == 1 ? "" : "component " + std::to_string(c) + ": ";
+        const Mesh& mesh = prepared.components[c];
+        const double t0 = progress.seconds();
+        layout::OrthogonalSystemOptions options;
+        options.progress = progress.callback(tag);
+        const layout::OrthogonalSystem sys = layout::build_orthogonal_system(mesh, options);
+        const double seconds = progress.seconds() - t0;
+        const double area = surface_area(mesh);
+        const double root_area = std::sqrt(area);
+
+        json report;
+        report["input"] = o.mesh;
+        report["component"] = c;
+        report["genus"] = sys.genus;
+        report["input_vertices"] = sys.input_vertices;
+        report["input_triangles"] = mesh.num_triangles();
+        report["vertices"] = sys.mesh.num_vertices();
+        report["triangles"] = sys.mesh.num_triangles();
+        report["refinement"] = {{"edges_split", sys.refinement_splits},
+                                {"vertices_added", sys.mesh.num_vertices() - sys.input_vertices}};
+        report["area"] = area;
+        json lengths = json::array(), relative = json::array();
+        double total = 0;
+        for (const layout::Cycle& cy : sys.cycles) {
+            const double len = layout::cycle_length(sys.mesh, cy);
+            total += len;
+            lengths.push_back(len);
+            relative.push_back(len / root_area);
+        }
+        report["cycle_lengths"] = lengths;
+        report["cycle_lengths_over_sqrt_area"] = relative;
+        report["total_length_over_sqrt_area"] = total / root_area;
+        json handles = json::array();
+        int tiny = 0;
+        for (double len : sys.handle_lengths) {
+            handles.push_back({{"length", len}, {"over_sqrt_area", len / root_area}});
+            if (len / root_area < kTinyHandle) ++tiny;
+        }
+        report["shortest_handles"] = handles;
+        report["tiny_handles"] = tiny;
+        report["tiny_handle_threshold_over_sqrt_area"] = kTinyHandle;
+        report["flipped_triangles"] = prepared.flipped_triangles;
+        report["seconds"] = seconds;
+
+        write_ply(output_path(dir, "layout.ply"), sys.mesh);
+        json cj;
+        cj["genus"] = sys.genus;
+        cj["orthogonal_system"] = cycles_json(sys.cycles);
+        write_text_file(output_path(dir, "cycles.json"), cj.dump() + "\n");
+        write_text_file(output_path(dir, "report.json"), report.dump(2) + "\n");
+        top["components"].push_back(report);
+
+        std::printf("%sgenus %d: %zu cycles, total length %.3g sqrt(area), %d vertices added, %.2f s\n",
+                    tag.c_str(), sys.genus, sys.cycles.size(), total / root_area,
+                    sys.mesh.num_vertices() - sys.input_vertices, seconds);
+        if (tiny > 0)
+            std::printf("%swarning: %d handle%s shorter than %.2g sqrt(area): possibly tunnels from scan noise\n",
+                        tag.c_str(), tiny, tiny == 1 ? " is" : "s are", kTinyHandle);
+    }
+    if (nc > 1) write_text_file(output_path(o.output_dir, "report.json"), top.dump(2) + "\n");
+    progress.say("wrote " + o.output_dir);
+    return kOk;
+}
+
+int run_info(const InfoOptions& o) {
+    LoadInfo load;
+    const Mesh mesh = read_mesh(o.mesh, &load);
+    const ValidationReport r = validate(mesh);
+    if (o.json) std::cout << info_json(o.mesh, load, r).dump(2) << "\n";
+    else print_info_text(o.mesh, load, r);
+    if (!r.quaddable()) {
+        std::fprintf(stderr, "quadcage: error: %s: cannot be quadded: %s\n", o.mesh.c_str(), r.error_summary().c_str());
+        return kInvalidInput;
+    }
+    return kOk;
+}
+
+int run_version() {
+    // Every line is produced by a call into the linked library, not by a header constant alone.
+    std::printf("quadcage %s\n", QUADCAGE_VERSION);
+    std::printf("  %s\n", openmesh_version().c_str());
+    std::printf("  %s\n", subdiv::opensubdiv_version().c_str());
+    std::printf("  %s\n", accel::embree_version().c_str());
+    std::printf("  %s\n", fit::ceres_version().c_str());
+    return kOk;
+}
+
+int run_generate(const GenerateOptions& o) {
+    Mesh mesh;
+    if (o.shape == "sphere") mesh = shapes::icosphere(o.resolution);
+    else if (o.shape == "torus") mesh = shapes::torus(8 * o.resolution, 4 * o.resolution);
+    else if (o.shape == "plate") {
+        shapes::PlateOptions p;
+        p.resolution = o.resolution;
+        mesh = shapes::plate_with_holes(o.genus, p);
+    } else {
+        throw InvalidInput("unknown shape '" + o.shape + "' (use sphere, torus or plate)");
+    }
+    const std::string& out = o.output;
+    if (out.size() >= 4 && out.compare(out.size() - 4, 4, ".ply") == 0) write_ply(out, mesh);
+    else write_obj(out, mesh);
+    std::printf("%s: %d vertices, %d triangles\n", out.c_str(), mesh.num_vertices(), mesh.num_triangles());
+    return kOk;
+}
+
+}  // namespace quadcage::cli

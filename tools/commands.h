@@ -1,0 +1,34 @@
+#pragma once
+// The CLI's commands: each parses nothing itself; quadcage.cpp fills the options and calls one.
+
+#include <string>
+
+namespace quadcage::cli {
+
+/// Exit codes of every command.
+enum ExitCode { kOk = 0, kInternalError = 1, kUsage = 2, kInvalidInput = 3 };
+
+struct InfoOptions {
+    std::string mesh;
+    bool json = false;
+};
+int run_info(const InfoOptions& options);
+
+int run_version();
+
+struct CyclesOptions {
+    std::string mesh;
+    std::string output_dir;
+    bool quiet = false;  ///< No progress on stderr.
+};
+int run_cycles(const CyclesOptions& options);
+
+struct GenerateOptions {
+    std::string shape;   ///< "sphere", "torus" or "plate".
+    int genus = 2;       ///< plate only.
+    int resolution = 2;  ///< plate: grid cells per unit; sphere: subdivisions; torus: segments / 8.
+    std::string output;
+};
+int run_generate(const GenerateOptions& options);
+
+}  // namespace quadcage::cli

@@ -1,0 +1,25 @@
+#!/usr/bin/env bash
+# The two quick-start commands of the README:
+#   tools/dev.sh demo   install what is missing, build, run quadcage on the bundled mesh data/eight.off (-> out/eight)
+#   tools/dev.sh test   install what is missing, build, run every test (ctest)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+what=${1:-}
+case "$what" in demo|test) ;; *) echo "usage: tools/dev.sh demo|test" >&2; exit 2 ;; esac
+
+bash tools/install_deps.sh
+jobs=$(nproc 2>/dev/null || echo 2)
+cmake -S . -B build -DCMAKE_BUILD_TYPE=Release
+cmake --build build -j"$jobs"
+
+if [ "$what" = demo ]; then
+  ./build/quadcage info data/eight.off
+  ./build/quadcage cycles data/eight.off -o out/eight
+  exit 0
+fi
+
+if [ ! -d ../shared/data/meshes ]; then
+  echo "note: ../shared/data/meshes not found beside the checkout: tests on real meshes are skipped" >&2
+fi
+ctest --test-dir build --output-on-failure -j"$jobs" --timeout 900

@@ -1,0 +1,72 @@
+// quadcage: command-line interface. Parses arguments into an options struct and calls the library.
+
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <exception>
+#include <new>
+
+#include "commands.h"
+#include "quadcage/core/errors.h"
+
+int main(int argc, char** argv) {
+    using namespace quadcage::cli;
+    CLI::App app{
+        "quadcage: the smallest quad cage of a closed triangle mesh (10g-10 quads for genus g >= 2,\n"
+        "4 for a torus, 6 for a sphere).\n\n"
+        "Exit codes: 0 ok, 1 internal error, 2 bad usage, 3 invalid input (one line on stderr says why)."};
+    app.require_subcommand(1);
+    app.set_version_flag("--version", std::string("quadcage ") + QUADCAGE_VERSION);
+
+    InfoOptions info;
+    CLI::App* info_cmd = app.add_subcommand(
+        "info", "Load and validate a mesh; print vertices, triangles, components and, per component,\n"
+                "closed/manifold/orientable, genus, boundary loops and the minimal quad count.\n"
+                "Exits 3 if the mesh cannot be quadded.");
+    info_cmd->add_option("MESH", info.mesh, "Mesh file: OBJ, PLY (ascii/binary), OFF or STL")->required();
+    info_cmd->add_flag("--json", info.json, "Print the report as JSON");
+
+    CyclesOptions cycles;
+    CLI::App* cycles_cmd = app.add_subcommand(
+        "cycles", "Compute an orthogonal system of 2g cycles (paper, Definition 6) on each component.\n"
+                  "Writes DIR/layout.ply (the surface the cycles live on), DIR/cycles.json and\n"
+                  "DIR/report.json; a mesh of several components gets DIR/component_<i>/ each.");
+    cycles_cmd->add_option("MESH", cycles.mesh, "Closed triangle mesh: OBJ, PLY, OFF or STL")->required();
+    cycles_cmd->add_option("-o,--output", cycles.output_dir, "Output directory (created if missing)")->required();
+    cycles_cmd->add_flag("-q,--quiet", cycles.quiet, "No progress messages on stderr");
+
+    CLI::App* version_cmd = app.add_subcommand(
+        "version", "Print the versions of quadcage and the libraries it runs on (each checked by a call).");
+
+    GenerateOptions gen;
+    CLI::App* gen_cmd = app.add_subcommand("generate", "Write a closed test surface of known genus.");
+    gen_cmd->add_option("SHAPE", gen.shape, "sphere, torus or plate (a thickened plate with holes)")
+        ->required()
+        ->check(CLI::IsMember({"sphere", "torus", "plate"}));
+    gen_cmd->add_option("--genus,-g", gen.genus, "Number of holes of the plate")->check(CLI::Range(0, 200));
+    gen_cmd->add_option("--resolution,-r", gen.resolution, "Mesh resolution (plate: cells per unit)")
+        ->check(CLI::Range(1, 64));
+    gen_cmd->add_option("-o,--output", gen.output, "Output file (.obj or .ply)")->required();
+
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        const int code = app.exit(e);
+        return code == 0 ? kOk : kUsage;
+    }
+    try {
+        if (*info_cmd) return run_info(info);
+        if (*version_cmd) return run_version();
+        if (*cycles_cmd) return run_cycles(cycles);
+        if (*gen_cmd) return run_generate(gen);
+    } catch (const quadcage::InvalidInput& e) {
+        std::fprintf(stderr, "quadcage: error: %s\n", e.what());
+        return kInvalidInput;
+    } catch (const std::bad_alloc&) {
+        std::fprintf(stderr, "quadcage: internal error: out of memory\n");
+        return kInternalError;
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "quadcage: internal error: %s\n", e.what());
+        return kInternalError;
+    }
+    return kUsage;
+}
