@@ -7,6 +7,7 @@
 #include <functional>
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <sys/resource.h>
 
 #include "quadcage/accel/closest_point.h"
 #include "quadcage/core/errors.h"
@@ -141,6 +142,13 @@ json cycles_json(const std::vector<layout::Cycle>& cycles) {
     return j;
 }
 
+// Peak resident memory of this process so far, in MiB.
+double peak_memory_mib() {
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    return static_cast<double>(usage.ru_maxrss) / 1024.0;  // Linux: kilobytes
+}
+
 // Handles shorter than this fraction of sqrt(area) are flagged as likely topological noise.
 constexpr double kTinyHandle = 0.02;
 
@@ -152,14 +160,19 @@ int run_cycles(const CyclesOptions& o) {
     LoadInfo load;
     const Mesh input = read_mesh(o.mesh, &load);
     const PreparedMesh prepared = prepare_for_quadding(input, o.mesh);
-    make_output_dir(o.output_dir);
     const size_t nc = prepared.components.size();
+    // Everything is computed before anything is written: a failure leaves no partial output.
+    struct Pending {
+        std::string dir;
+        Mesh mesh;
+        json cycles, report;
+    };
+    std::vector<Pending> pending;
     json top;
     top["input"] = o.mesh;
     top["components"] = json::array();
     for (size_t c = 0; c < nc; ++c) {
         const std::string dir = nc == 1 ? o.output_dir : output_path(o.output_dir, "component_" + std::to_string(c));
-        if (nc > 1) make_output_dir(dir);
         const std::string tag = nc == 1 ? "" : "component " + std::to_string(c) + ": ";
         const Mesh& mesh = prepared.components[c];
         const double t0 = progress.seconds();
@@ -203,14 +216,13 @@ int run_cycles(const CyclesOptions& o) {
         report["tiny_handle_threshold_over_sqrt_area"] = kTinyHandle;
         report["flipped_triangles"] = prepared.flipped_triangles;
         report["seconds"] = seconds;
+        report["peak_memory_mib"] = peak_memory_mib();
 
-        write_ply(output_path(dir, "layout.ply"), sys.mesh);
         json cj;
         cj["genus"] = sys.genus;
         cj["orthogonal_system"] = cycles_json(sys.cycles);
-        write_text_file(output_path(dir, "cycles.json"), cj.dump() + "\n");
-        write_text_file(output_path(dir, "report.json"), report.dump(2) + "\n");
         top["components"].push_back(report);
+        pending.push_back({dir, sys.mesh, cj, report});
 
         std::printf("%sgenus %d: %zu cycles, total length %.3g sqrt(area), %d vertices added, %.2f s\n",
                     tag.c_str(), sys.genus, sys.cycles.size(), total / root_area,
@@ -218,6 +230,12 @@ int run_cycles(const CyclesOptions& o) {
         if (tiny > 0)
             std::printf("%swarning: %d handle%s shorter than %.2g sqrt(area): possibly tunnels from scan noise\n",
                         tag.c_str(), tiny, tiny == 1 ? " is" : "s are", kTinyHandle);
+    }
+    for (const Pending& p : pending) {
+        make_output_dir(p.dir);
+        write_ply(output_path(p.dir, "layout.ply"), p.mesh);
+        write_text_file(output_path(p.dir, "cycles.json"), p.cycles.dump() + "\n");
+        write_text_file(output_path(p.dir, "report.json"), p.report.dump(2) + "\n");
     }
     if (nc > 1) write_text_file(output_path(o.output_dir, "report.json"), top.dump(2) + "\n");
     progress.say("wrote " + o.output_dir);
@@ -247,6 +265,21 @@ int run_version() {
     return kOk;
 }
 
+// Writes .ply or .obj by the output's extension.
+void write_mesh_by_extension(const std::string& out, const Mesh& mesh) {
+    if (out.size() >= 4 && out.compare(out.size() - 4, 4, ".ply") == 0) write_ply(out, mesh);
+    else write_obj(out, mesh);
+}
+
+int run_subdivide(const SubdivideOptions& o) {
+    Mesh mesh = read_mesh(o.mesh);
+    require_quaddable(mesh, o.mesh);
+    for (int i = 0; i < o.times; ++i) mesh = subdivide_midpoint(mesh);
+    write_mesh_by_extension(o.output, mesh);
+    std::printf("%s: %d vertices, %d triangles\n", o.output.c_str(), mesh.num_vertices(), mesh.num_triangles());
+    return kOk;
+}
+
 int run_generate(const GenerateOptions& o) {
     Mesh mesh;
     if (o.shape == "sphere") mesh = shapes::icosphere(o.resolution);
@@ -258,10 +291,8 @@ int run_generate(const GenerateOptions& o) {
     } else {
         throw InvalidInput("unknown shape '" + o.shape + "' (use sphere, torus or plate)");
     }
-    const std::string& out = o.output;
-    if (out.size() >= 4 && out.compare(out.size() - 4, 4, ".ply") == 0) write_ply(out, mesh);
-    else write_obj(out, mesh);
-    std::printf("%s: %d vertices, %d triangles\n", out.c_str(), mesh.num_vertices(), mesh.num_triangles());
+    write_mesh_by_extension(o.output, mesh);
+    std::printf("%s: %d vertices, %d triangles\n", o.output.c_str(), mesh.num_vertices(), mesh.num_triangles());
     return kOk;
 }
 

@@ -31,4 +31,11 @@ struct GenerateOptions {
 };
 int run_generate(const GenerateOptions& options);
 
+struct SubdivideOptions {
+    std::string mesh;
+    int times = 1;
+    std::string output;
+};
+int run_subdivide(const SubdivideOptions& options);
+
 }  // namespace quadcage::cli

@@ -47,6 +47,13 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(1, 64));
     gen_cmd->add_option("-o,--output", gen.output, "Output file (.obj or .ply)")->required();
 
+    SubdivideOptions sub;
+    CLI::App* sub_cmd = app.add_subcommand(
+        "subdivide", "Split every triangle 1-to-4 at edge midpoints, TIMES times (same surface, for benchmarks).");
+    sub_cmd->add_option("MESH", sub.mesh, "Closed triangle mesh")->required();
+    sub_cmd->add_option("-t,--times", sub.times, "Number of 1-to-4 splits")->check(CLI::Range(1, 6));
+    sub_cmd->add_option("-o,--output", sub.output, "Output file (.ply or .obj)")->required();
+
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -58,6 +65,7 @@ int main(int argc, char** argv) {
         if (*version_cmd) return run_version();
         if (*cycles_cmd) return run_cycles(cycles);
         if (*gen_cmd) return run_generate(gen);
+        if (*sub_cmd) return run_subdivide(sub);
     } catch (const quadcage::InvalidInput& e) {
         std::fprintf(stderr, "quadcage: error: %s\n", e.what());
         return kInvalidInput;

@@ -144,7 +144,7 @@ struct IndexData {
 
 /// Per-query state handed to the Embree callback through userPtr.
 struct QueryState {
-    const IndexData* impl = nullptr;
+    const IndexData* data = nullptr;
     Vec3 p;              // query point, centred, double
     double slack = 0;    // radius slack in Embree units
     double best_d2 = std::numeric_limits<double>::infinity();
@@ -154,8 +154,8 @@ struct QueryState {
 
 /// Offers triangle t to the running minimum; true if it became the best.
 bool offer_triangle(QueryState& s, int t) {
-    const Triangle& tri = s.impl->triangles[t];
-    const auto& pts = s.impl->points;
+    const Triangle& tri = s.data->triangles[t];
+    const auto& pts = s.data->points;
     const TrianglePoint tp = closest_on_triangle(s.p, pts[tri[0]], pts[tri[1]], pts[tri[2]]);
     const Vec3 d = s.p - tp.point;
     const double d2 = dot(d, d);
@@ -171,7 +171,7 @@ bool offer_triangle(QueryState& s, int t) {
 bool point_query_callback(RTCPointQueryFunctionArguments* args) {
     auto& s = *static_cast<QueryState*>(args->userPtr);
     if (!offer_triangle(s, static_cast<int>(args->primID))) return false;
-    const double r = std::sqrt(s.best_d2) * s.impl->scale + s.slack;
+    const double r = std::sqrt(s.best_d2) * s.data->scale + s.slack;
     const float rf = std::nextafter(static_cast<float>(r), std::numeric_limits<float>::infinity());
     if (rf < args->query->radius) {
         args->query->radius = rf;
@@ -257,7 +257,7 @@ ClosestHit ClosestPointIndex::query(const Vec3& p) const {
     const Impl& im = *impl_;
 
     QueryState s;
-    s.impl = &im;
+    s.data = &im;
     s.p = p - im.centre;
     const Vec3 q = s.p * im.scale;
     const double qmax = std::max({std::abs(q.x), std::abs(q.y), std::abs(q.z)});

@@ -1,6 +1,9 @@
 #include "quadcage/core/mesh.h"
 
+#include <algorithm>
+#include <cstdint>
 #include <limits>
+#include <unordered_map>
 
 namespace quadcage {
 
@@ -34,6 +37,28 @@ BoundingBox bounding_box(const Mesh& mesh) {
         for (const Vec3& p : mesh.points) grow(p);
     if (mesh.points.empty()) box = BoundingBox{};
     return box;
+}
+
+Mesh subdivide_midpoint(const Mesh& mesh) {
+    Mesh out;
+    out.points = mesh.points;
+    out.triangles.reserve(mesh.triangles.size() * 4);
+    std::unordered_map<std::uint64_t, int> mid;
+    mid.reserve(mesh.triangles.size() * 2);
+    auto midpoint = [&](int a, int b) {
+        const std::uint64_t key = (static_cast<std::uint64_t>(std::min(a, b)) << 32) | static_cast<std::uint32_t>(std::max(a, b));
+        auto [it, fresh] = mid.emplace(key, out.num_vertices());
+        if (fresh) out.points.push_back((mesh.points[a] + mesh.points[b]) * 0.5);
+        return it->second;
+    };
+    for (const Triangle& t : mesh.triangles) {
+        const int m01 = midpoint(t[0], t[1]), m12 = midpoint(t[1], t[2]), m20 = midpoint(t[2], t[0]);
+        out.triangles.push_back({t[0], m01, m20});
+        out.triangles.push_back({m01, t[1], m12});
+        out.triangles.push_back({m20, m12, t[2]});
+        out.triangles.push_back({m01, m12, m20});
+    }
+    return out;
 }
 
 }  // namespace quadcage

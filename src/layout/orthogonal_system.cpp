@@ -229,6 +229,7 @@ public:
         PathSearch q;
         for (int v = 0; v < s_.num_vertices(); ++v)
             if (block[v]) q.sources.push_back({v, 0.0});
+        q.max_distance = 8 * sigma_;  // the penalty is below 3e-3 beyond
         auto field = std::make_shared<std::vector<double>>(detail::dijkstra(s_, q).distance);
         const Surface* s = &s_;
         const double a = o_.repulsion, sigma = sigma_;
@@ -281,6 +282,7 @@ std::vector<Cycle> independent_loops(Builder& b, int genus, std::vector<double>*
             PathSearch q;
             q.sources = {{root, 0.0}};
             q.blocked = &block;
+            q.max_distance = 0.5 * best;  // a shorter loop through the root stays within this radius
             const PathResult r = detail::dijkstra(b.s_, q);
             const std::vector<Class> H = path_classes(b.s_, r, mask);
             for (int h = 0; h < b.s_.num_half_edges(); ++h) {
@@ -506,6 +508,10 @@ OrthogonalSystem build_orthogonal_system(const Mesh& mesh, const OrthogonalSyste
         std::vector<Option> options_found;
         std::vector<std::vector<std::array<double, 2>>> D(xs.size() * 2,
                                                           std::vector<std::array<double, 2>>(ys.size(), {kInf, kInf}));
+        std::vector<int> y_ring;  // the searches may stop once these are settled
+        for (int y : ys)
+            for (int w : b.s_.ring(y))
+                if (!block[w]) y_ring.push_back(w);
         for (size_t xi = 0; xi < xs.size(); ++xi) {
             const auto [p, n] = neighbours_on(bi, xs[xi]);
             const auto sec = sectors(b.s_, xs[xi], p, n);
@@ -516,6 +522,7 @@ OrthogonalSystem build_orthogonal_system(const Mesh& mesh, const OrthogonalSyste
                 for (int w : sec[s])
                     if (!block[w]) q.sources.push_back({w, b.edge_cost(cost, xs[xi], w)});
                 if (q.sources.empty()) continue;
+                q.settle = y_ring;
                 const PathResult r = detail::dijkstra(b.s_, q);
                 for (size_t yi = 0; yi < ys.size(); ++yi) {
                     const auto [py, ny] = neighbours_on(bj, ys[yi]);

@@ -160,11 +160,28 @@ PathResult dijkstra(const Surface& s, const PathSearch& q) {
         }
     double best = inf;
     std::vector<char> done(n, 0);
+    std::vector<char> wanted(q.settle.empty() ? 0 : n, 0);
+    size_t still_wanted = 0;
+    for (int v : q.settle)
+        if (!wanted[v]) {
+            wanted[v] = 1;
+            ++still_wanted;
+        }
     while (!heap.empty()) {
         auto [d, v] = heap.top();
         heap.pop();
         if (done[v]) continue;
+        if (d > q.max_distance) {  // everything left is farther: forget it
+            for (int w = 0; w < n; ++w)
+                if (!done[w]) r.distance[w] = inf;
+            break;
+        }
         done[v] = 1;
+        if (!wanted.empty() && wanted[v] && --still_wanted == 0) {
+            for (int w = 0; w < n; ++w)
+                if (!done[w]) r.distance[w] = inf;
+            break;
+        }
         if (!q.targets.empty() && d >= best) break;
         if (arrival[v] < inf && d + arrival[v] < best) {
             best = d + arrival[v];

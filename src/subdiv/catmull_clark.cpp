@@ -9,6 +9,10 @@
 
 #include "quadcage/core/errors.h"
 
+// OPENSUBDIV_VERSION is a bare token (v3_5_0); spell it as a string.
+#define QC_STRINGIFY2(x) #x
+#define QC_STRINGIFY(x) QC_STRINGIFY2(x)
+
 namespace quadcage::subdiv {
 
 namespace {
@@ -137,9 +141,6 @@ std::vector<Vec3> to_vec3(const std::vector<Point>& pts) {
     for (size_t i = 0; i < pts.size(); ++i) out[i] = {pts[i].x, pts[i].y, pts[i].z};
     return out;
 }
-
-#define QC_STRINGIFY2(x) #x
-#define QC_STRINGIFY(x) QC_STRINGIFY2(x)
 
 }  // namespace
 

@@ -219,3 +219,55 @@ TEST(CliVersion, EveryLibraryAnswers) {
 }
 
 }  // namespace
+
+namespace {
+
+// Two closed components side by side: a genus-2 plate and a torus.
+quadcage::Mesh two_components() {
+    quadcage::Mesh m = quadcage::shapes::plate_with_holes(2);
+    const quadcage::Mesh t = quadcage::shapes::torus(16, 8);
+    const int base = m.num_vertices();
+    for (const quadcage::Vec3& p : t.points) m.points.push_back(p + quadcage::Vec3{20, 0, 0});
+    for (const quadcage::Triangle& f : t.triangles) m.triangles.push_back({f[0] + base, f[1] + base, f[2] + base});
+    return m;
+}
+
+TEST(CliCycles, SeveralComponentsGetADirectoryEach) {
+    const fs::path dir = scratch_dir();
+    const fs::path in = dir / "two.ply", out = dir / "two_out";
+    quadcage::write_ply(in.string(), two_components());
+    const Outcome r = quadcage("cycles -q '" + in.string() + "' -o '" + out.string() + "'");
+    ASSERT_EQ(r.code, 0) << r.err;
+    const nlohmann::json top = nlohmann::json::parse(slurp(out / "report.json"));
+    ASSERT_EQ(top["components"].size(), 2u);
+    const int genus[2] = {2, 1};
+    for (int c = 0; c < 2; ++c) {
+        const fs::path sub = out / ("component_" + std::to_string(c));
+        const nlohmann::json cycles = nlohmann::json::parse(slurp(sub / "cycles.json"));
+        EXPECT_EQ(cycles["orthogonal_system"].size(), 2u * genus[c]);
+        EXPECT_EQ(top["components"][c]["genus"], genus[c]);
+        EXPECT_TRUE(fs::exists(sub / "layout.ply"));
+    }
+}
+
+TEST(CliCycles, InvalidInputWritesNothing) {
+    if (!have_shared()) GTEST_SKIP() << "shared meshes not found";
+    const fs::path out = scratch_dir() / "cow_out";
+    const Outcome r = quadcage("cycles -q '" + shared_mesh("cow.obj") + "' -o '" + out.string() + "'");
+    EXPECT_EQ(r.code, 3);
+    EXPECT_EQ(count_lines(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find("pinched"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(out));
+}
+
+TEST(CliCycles, UnwritableOutputExitsThree) {
+    const fs::path dir = scratch_dir();
+    const fs::path in = dir / "plate.ply", blocker = dir / "not_a_dir";
+    quadcage::write_ply(in.string(), quadcage::shapes::plate_with_holes(2));
+    std::ofstream(blocker) << "a file where the output directory should go";
+    const Outcome r = quadcage("cycles -q '" + in.string() + "' -o '" + (blocker / "out").string() + "'");
+    EXPECT_EQ(r.code, 3) << r.err;
+    EXPECT_NE(r.err.find("not_a_dir"), std::string::npos) << r.err;
+}
+
+}  // namespace

@@ -61,4 +61,8 @@ struct BoundingBox {
 };
 BoundingBox bounding_box(const Mesh& mesh);
 
+/// One 1-to-4 midpoint split of every triangle: the same surface (points stay in place, new points at
+/// edge midpoints), 4x the triangles. Used to make large inputs for benchmarks. Indices must be valid.
+Mesh subdivide_midpoint(const Mesh& mesh);
+
 }  // namespace quadcage

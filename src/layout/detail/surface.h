@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <vector>
 
 #include "quadcage/core/mesh.h"
@@ -65,6 +66,10 @@ struct PathSearch {
     const std::vector<char>* blocked = nullptr;
     /// Cost of half-edge h; default: its length.
     std::function<double(int)> cost;
+    /// Vertices farther than this are not settled (their distance stays +inf).
+    double max_distance = std::numeric_limits<double>::infinity();
+    /// Without targets: stop once every one of these vertices is settled (empty: settle all).
+    std::vector<int> settle;
 };
 
 struct PathResult {
