@@ -8,6 +8,7 @@
 #include <memory>
 #include <numeric>
 #include <set>
+#include <thread>
 #include <tuple>
 #include <unordered_set>
 
@@ -398,60 +399,23 @@ std::vector<int> spread(const Cycle& c, int k, const std::function<bool(int)>& s
     return out;
 }
 
-}  // namespace
+// Steps 3 and 4 on a copy of the builder: b_i crossing a_i once, c_i joining b_i and b(i+1); the
+// loops enter in chain `order` (order[0] stays as a1).
+struct Chain {
+    std::vector<Cycle> cycles;
+    Mesh mesh;
+    int splits = 0;
+    double length = 0;
+};
 
-std::string OrthogonalSystemOptions::validate() const {
-    if (root_samples < 1) return "root_samples must be >= 1";
-    if (crossing_candidates < 1) return "crossing_candidates must be >= 1";
-    if (repulsion < 0) return "repulsion must be >= 0";
-    if (!(repulsion_radius > 0)) return "repulsion_radius must be > 0";
-    if (max_genus < 1 || max_genus > 64) return "max_genus must be in 1..64";
-    return "";
-}
-
-double cycle_length(const Mesh& mesh, const Cycle& c) {
-    double len = 0;
-    for (size_t i = 0; i < c.size(); ++i) len += norm(mesh.points[c[(i + 1) % c.size()]] - mesh.points[c[i]]);
-    return len;
-}
-
-OrthogonalSystem build_orthogonal_system(const Mesh& mesh, const OrthogonalSystemOptions& options) {
-    if (const std::string e = options.validate(); !e.empty()) throw InvalidInput("orthogonal system options: " + e);
-    const ValidationReport report = validate(mesh);
-    if (!report.quaddable() || report.components.size() != 1)
-        throw InvalidInput("build_orthogonal_system needs one closed, manifold, orientable component: " +
-                           (report.components.size() > 1 ? std::string("the mesh has ") +
-                                                               std::to_string(report.components.size()) + " components"
-                                                         : report.error_summary()));
-    if (!report.components[0].consistently_oriented)
-        throw InvalidInput("build_orthogonal_system: triangles are not consistently oriented (call orient_outward)");
-    if (report.unused_vertices > 0)
-        throw InvalidInput("build_orthogonal_system: the mesh has unused vertices (call remove_unused_vertices)");
-    const int g = report.components[0].genus;
-    if (g > options.max_genus)
-        throw InvalidInput("genus " + std::to_string(g) + " exceeds the supported maximum " +
-                           std::to_string(options.max_genus));
-
-    OrthogonalSystem out;
-    out.input_vertices = mesh.num_vertices();
-    out.genus = g;
-    if (g == 0) {
-        out.mesh = mesh;
-        return out;
-    }
-    auto say = [&options](const std::string& m) {
-        if (options.progress) options.progress(m);
-    };
-    Builder b(mesh, options);
-    say("handle loops (genus " + std::to_string(g) + ")");
-    const std::vector<Cycle> loops = independent_loops(b, g, &out.handle_lengths);
-    std::sort(out.handle_lengths.begin(), out.handle_lengths.end());
-    const std::vector<int> order = chain_order(b, loops);
+Chain build_chain(Builder b, const std::vector<Cycle>& loops, const std::vector<int>& order,
+                  const std::function<void(const std::string&)>& say) {
     // Curves: the g loops in chain order first, then the b's and c's as they come.
     for (int i : order) {
         b.curves_.push_back(loops[i]);
         b.obstacle_.push_back(1);
     }
+    const int g = static_cast<int>(order.size());
     std::vector<int> b_index(g), c_index;
 
     // Step 3: b_i crosses a_i once and avoids every other curve so far.
@@ -464,7 +428,7 @@ OrthogonalSystem build_orthogonal_system(const Mesh& mesh, const OrthogonalSyste
         const Cycle& a = b.curves_[i];
         double best = kInf;
         Cycle best_b;
-        for (int x : spread(a, options.crossing_candidates, [](int) { return false; })) {
+        for (int x : spread(a, b.o_.crossing_candidates, [](int) { return false; })) {
             const auto [p, n] = neighbours_on(a, x);
             const auto sec = sectors(b.s_, x, p, n);
             double total = kInf;
@@ -497,8 +461,8 @@ OrthogonalSystem build_orthogonal_system(const Mesh& mesh, const OrthogonalSyste
         auto cost = b.cost_near(block);
         const Cycle &bi = b.curves_[b_index[i]], &bj = b.curves_[b_index[i + 1]];
         const auto skip = [&](int v) { return final_count(v) != 1; };
-        const std::vector<int> xs = spread(bi, options.crossing_candidates, skip);
-        const std::vector<int> ys = spread(bj, options.crossing_candidates, skip);
+        const std::vector<int> xs = spread(bi, b.o_.crossing_candidates, skip);
+        const std::vector<int> ys = spread(bj, b.o_.crossing_candidates, skip);
         QC_CHECK(!xs.empty() && !ys.empty(), "no free crossing vertex on b" + std::to_string(i + 1));
         // Distances from each (x, side) to each (y, side): one search per (x, side).
         struct Option {
@@ -581,13 +545,90 @@ OrthogonalSystem build_orthogonal_system(const Mesh& mesh, const OrthogonalSyste
         b.obstacle_.push_back(1);
     }
 
+    Chain out;
     out.cycles.push_back(b.curves_[0]);
     for (int i = 0; i < g; ++i) {
         out.cycles.push_back(b.curves_[b_index[i]]);
         if (i + 1 < g) out.cycles.push_back(b.curves_[c_index[i]]);
     }
-    out.refinement_splits = b.splits_;
+    out.splits = b.splits_;
     out.mesh = b.s_.mesh();
+    for (const Cycle& c : out.cycles) out.length += cycle_length(out.mesh, c);
+    return out;
+}
+
+}  // namespace
+
+std::string OrthogonalSystemOptions::validate() const {
+    if (root_samples < 1) return "root_samples must be >= 1";
+    if (crossing_candidates < 1) return "crossing_candidates must be >= 1";
+    if (repulsion < 0) return "repulsion must be >= 0";
+    if (!(repulsion_radius > 0)) return "repulsion_radius must be > 0";
+    if (max_genus < 1 || max_genus > 64) return "max_genus must be in 1..64";
+    return "";
+}
+
+double cycle_length(const Mesh& mesh, const Cycle& c) {
+    double len = 0;
+    for (size_t i = 0; i < c.size(); ++i) len += norm(mesh.points[c[(i + 1) % c.size()]] - mesh.points[c[i]]);
+    return len;
+}
+
+OrthogonalSystem build_orthogonal_system(const Mesh& mesh, const OrthogonalSystemOptions& options) {
+    if (const std::string e = options.validate(); !e.empty()) throw InvalidInput("orthogonal system options: " + e);
+    const ValidationReport report = validate(mesh);
+    if (!report.quaddable() || report.components.size() != 1)
+        throw InvalidInput("build_orthogonal_system needs one closed, manifold, orientable component: " +
+                           (report.components.size() > 1 ? std::string("the mesh has ") +
+                                                               std::to_string(report.components.size()) + " components"
+                                                         : report.error_summary()));
+    if (!report.components[0].consistently_oriented)
+        throw InvalidInput("build_orthogonal_system: triangles are not consistently oriented (call orient_outward)");
+    if (report.unused_vertices > 0)
+        throw InvalidInput("build_orthogonal_system: the mesh has unused vertices (call remove_unused_vertices)");
+    const int g = report.components[0].genus;
+    if (g > options.max_genus)
+        throw InvalidInput("genus " + std::to_string(g) + " exceeds the supported maximum " +
+                           std::to_string(options.max_genus));
+
+    OrthogonalSystem out;
+    out.input_vertices = mesh.num_vertices();
+    out.genus = g;
+    if (g == 0) {
+        out.mesh = mesh;
+        return out;
+    }
+    auto say = [&options](const std::string& m) {
+        if (options.progress) options.progress(m);
+    };
+    Builder b(mesh, options);
+    say("handle loops (genus " + std::to_string(g) + ")");
+    const std::vector<Cycle> loops = independent_loops(b, g, &out.handle_lengths);
+    std::sort(out.handle_lengths.begin(), out.handle_lengths.end());
+    const std::vector<int> order = chain_order(b, loops);
+    // The chain's direction changes the b's and c's a lot (a c must get around every curve built
+    // before it): build both directions at once and keep the shorter system.
+    std::vector<int> reversed(order.rbegin(), order.rend());
+    const std::function<void(const std::string&)> quiet = [](const std::string&) {};
+    Chain chains[2];
+    std::string errors[2];
+    auto run = [&](int k) {
+        try {
+            chains[k] = build_chain(b, loops, k == 0 ? order : reversed, k == 0 ? say : quiet);
+        } catch (const std::exception& e) {
+            errors[k] = e.what();
+        }
+    };
+    std::thread other(run, 1);
+    run(0);
+    other.join();
+    if (!errors[0].empty() && !errors[1].empty()) throw InternalError(errors[0]);
+    const int pick = !errors[0].empty() ? 1
+                     : !errors[1].empty() ? 0
+                     : (chains[1].length < chains[0].length ? 1 : 0);
+    out.cycles = std::move(chains[pick].cycles);
+    out.mesh = std::move(chains[pick].mesh);
+    out.refinement_splits = chains[pick].splits;
     say("verifying");
     const std::string problem = verify_orthogonal_system(out.mesh, out.cycles);
     QC_CHECK(problem.empty(), "the orthogonal system fails its own check: " + problem);
@@ -598,6 +639,7 @@ std::string verify_orthogonal_system(const Mesh& mesh, const std::vector<Cycle>&
     const ValidationReport r = validate(mesh);
     if (r.components.size() != 1 || !r.components[0].quaddable()) return "the mesh is not one closed orientable surface";
     const int g = r.components[0].genus;
+    if (g == 0 && cycles.empty()) return "";  // a sphere: the empty system (no cut needed)
     if (static_cast<int>(cycles.size()) != 2 * g)
         return std::to_string(cycles.size()) + " cycles for genus " + std::to_string(g) + " (want 2g)";
     const Surface s(mesh);

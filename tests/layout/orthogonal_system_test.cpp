@@ -624,11 +624,13 @@ TEST_F(OrthogonalSystemCli, CheckerRejectsBrokenSystems) {
         const fs::path json = dir_ / (b.name + ".json");
         write_cycles_json(json, b.cycles);
         EXPECT_NE(run_checker(mesh, json, &log), 0) << b.name << " passed the checker:\n" << log;
+        EXPECT_NE(log.find("FAIL "), std::string::npos) << b.name << ": the checker did not run its checks:\n" << log;
     }
     const Mesh torus = shapes::torus(24, 12);
     write_ply((dir_ / "torus.ply").string(), torus);
     write_cycles_json(dir_ / "touch.json", touching_cycles_on_torus(torus, 12));
     EXPECT_NE(run_checker(dir_ / "torus.ply", dir_ / "touch.json", &log), 0) << log;
+    EXPECT_NE(log.find("without crossing"), std::string::npos) << log;
 }
 
 }  // namespace

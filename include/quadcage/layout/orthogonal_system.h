@@ -39,7 +39,8 @@ struct OrthogonalSystem {
 /// Builds an orthogonal system of 2g cycles on a closed, connected, orientable manifold triangle
 /// mesh of genus g (no cycles for g = 0). Route of design.md §4: greedy shortest non-separating
 /// loops a1..ag (tree-cotree homology masks), ordered along a shortest Hamiltonian path; b_i
-/// crossing a_i once; c_i joining b_i and b(i+1); chords split for room. Deterministic.
+/// crossing a_i once; c_i joining b_i and b(i+1); chords split for room. The chain is built in
+/// both directions (two threads) and the shorter system kept. Deterministic.
 /// \pre mesh is closed, connected, manifold, consistently oriented (core::validate(), orient_outward()).
 /// \throw InvalidInput if the precondition fails or the genus exceeds options.max_genus.
 OrthogonalSystem build_orthogonal_system(const Mesh& mesh, const OrthogonalSystemOptions& options = {});
@@ -47,7 +48,8 @@ OrthogonalSystem build_orthogonal_system(const Mesh& mesh, const OrthogonalSyste
 /// Checks Definition 6 and Corollary 1 combinatorially: 2g simple closed walks along edges;
 /// consecutive cycles share exactly one vertex where they cross (edges alternate around it);
 /// others are disjoint; each cycle alone and all together leave the surface connected; the union
-/// is a cutting graph (chi = 1 - 2g). Returns "" if all hold, else what fails.
+/// is a cutting graph (chi = 1 - 2g). For genus 0 only the empty system passes.
+/// Returns "" if all hold, else what fails.
 /// \pre mesh is closed, connected, manifold and consistently oriented.
 std::string verify_orthogonal_system(const Mesh& mesh, const std::vector<Cycle>& cycles);
 
