@@ -262,6 +262,7 @@ int run_version() {
     std::printf("  %s\n", subdiv::opensubdiv_version().c_str());
     std::printf("  %s\n", accel::embree_version().c_str());
     std::printf("  %s\n", fit::ceres_version().c_str());
+    std::printf("  %s\n", fit::eigen_version().c_str());
     return kOk;
 }
 

@@ -3,6 +3,7 @@
 #include <ceres/ceres.h>
 #include <ceres/version.h>
 
+#include <Eigen/Dense>
 #include <cstdio>
 
 namespace quadcage::fit {
@@ -28,6 +29,17 @@ std::string ceres_version() {
     char buf[128];
     std::snprintf(buf, sizeof buf, "Ceres %s (test solve: %s, x=%.6g)", CERES_VERSION_STRING,
                   summary.IsSolutionUsable() ? "ok" : "FAILED", x);
+    return buf;
+}
+
+std::string eigen_version() {
+    Eigen::Matrix3d a;
+    a << 4, 1, 0, 1, 3, 1, 0, 1, 2;
+    const Eigen::Vector3d b(1, 2, 3);
+    const Eigen::Vector3d x = a.ldlt().solve(b);
+    char buf[128];
+    std::snprintf(buf, sizeof buf, "Eigen %d.%d.%d (test solve residual %.1e)", EIGEN_WORLD_VERSION,
+                  EIGEN_MAJOR_VERSION, EIGEN_MINOR_VERSION, (a * x - b).norm());
     return buf;
 }
 

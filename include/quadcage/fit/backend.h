@@ -9,4 +9,7 @@ namespace quadcage::fit {
 /// (proves the library links and its solver runs; used by `quadcage version`).
 std::string ceres_version();
 
+/// Eigen's version, with the residual of a small dense solve run through it.
+std::string eigen_version();
+
 }  // namespace quadcage::fit
