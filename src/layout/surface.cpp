@@ -171,17 +171,9 @@ PathResult dijkstra(const Surface& s, const PathSearch& q) {
         auto [d, v] = heap.top();
         heap.pop();
         if (done[v]) continue;
-        if (d > q.max_distance) {  // everything left is farther: forget it
-            for (int w = 0; w < n; ++w)
-                if (!done[w]) r.distance[w] = inf;
-            break;
-        }
+        if (d > q.max_distance) break;  // everything left is farther
         done[v] = 1;
-        if (!wanted.empty() && wanted[v] && --still_wanted == 0) {
-            for (int w = 0; w < n; ++w)
-                if (!done[w]) r.distance[w] = inf;
-            break;
-        }
+        if (!wanted.empty() && wanted[v] && --still_wanted == 0) break;
         if (!q.targets.empty() && d >= best) break;
         if (arrival[v] < inf && d + arrival[v] < best) {
             best = d + arrival[v];
@@ -202,6 +194,9 @@ PathResult dijkstra(const Surface& s, const PathSearch& q) {
             h = s.rotate(h);
         } while (h != h0);
     }
+    // A search stopped early leaves tentative distances behind: only settled vertices count.
+    for (int w = 0; w < n; ++w)
+        if (!done[w]) r.distance[w] = inf;
     r.target_cost = best;
     return r;
 }

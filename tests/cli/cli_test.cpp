@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include "support/names.h"
+
 #include <cctype>
 #include <cstdio>
 #include <filesystem>
@@ -56,10 +58,7 @@ std::string shared_mesh(const std::string& name) {
 
 template <class Case>
 std::string case_name(const ::testing::TestParamInfo<Case>& info) {
-    std::string name = info.param.file;
-    for (char& ch : name)
-        if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
-    return name;
+    return quadcage::test::identifier(info.param.file);
 }
 
 bool have_shared() { return fs::exists(shared_mesh("eight.off")); }

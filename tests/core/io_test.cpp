@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include "support/names.h"
+
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -176,10 +178,7 @@ INSTANTIATE_TEST_SUITE_P(IoMeshes, IoShared,
                                          SharedMesh{"cow.obj", "obj", 5804, 2903},
                                          SharedMesh{"truck.obj", "obj", 4770, 2956}),
                          [](const testing::TestParamInfo<SharedMesh>& p) {
-                             std::string name = p.param.file;
-                             for (char& ch : name)
-                                 if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
-                             return name;
+                             return quadcage::test::identifier(p.param.file);
                          });
 
 std::uint64_t edge_key(int a, int b) { return (std::uint64_t(std::uint32_t(a)) << 32) | std::uint32_t(b); }

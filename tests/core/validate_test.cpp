@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include "support/names.h"
+
 #include <cctype>
 #include <cmath>
 #include <fstream>
@@ -290,12 +292,7 @@ INSTANTIATE_TEST_SUITE_P(
                       SharedMeshCase{"stanford-bunny.obj", -1, "5 loops"},
                       SharedMeshCase{"cow.obj", -1, "pinched"},
                       SharedMeshCase{"truck.obj", -1, "non-manifold"}),
-    [](const ::testing::TestParamInfo<SharedMeshCase>& info) {
-        std::string name = info.param.file;
-        for (char& ch : name)
-            if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
-        return name;
-    });
+    [](const ::testing::TestParamInfo<SharedMeshCase>& info) { return test::identifier(info.param.file); });
 
 }  // namespace
 }  // namespace quadcage

@@ -7,6 +7,8 @@
 
 #include <gtest/gtest.h>
 
+#include "support/names.h"
+
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -158,9 +160,7 @@ std::string shell_quoted(const fs::path& p) { return "'" + p.string() + "'"; }
 // A fresh scratch directory for the running test, removed by the fixture.
 fs::path scratch_dir() {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    std::string name = std::string(info->test_suite_name()) + "_" + info->name();
-    for (char& ch : name)
-        if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
+    const std::string name = test::identifier(std::string(info->test_suite_name()) + "_" + info->name());
     const fs::path dir =
         fs::temp_directory_path() / ("quadcage_layout_test_" + std::to_string(::getpid()) + "_" + name);
     fs::remove_all(dir);
