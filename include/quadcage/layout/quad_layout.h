@@ -1,0 +1,74 @@
+#pragma once
+// Minimal quasi-regular quad layout (paper §3-4: Lemma 4, Corollary 2, Theorem 2, Algorithm 1) and
+// its per-patch parameterization (design.md §2-5).
+
+#include <array>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "quadcage/core/mesh.h"
+#include "quadcage/layout/orthogonal_system.h"
+#include "quadcage/subdiv/cage.h"
+
+namespace quadcage::layout {
+
+/// (u, v) in the unit square of a patch.
+using UV = std::array<double, 2>;
+
+/// Options for build_quad_layout().
+struct QuadLayoutOptions {
+    OrthogonalSystemOptions cycles;  ///< For the orthogonal system the layout starts from (g >= 1).
+    int smoothing_iterations = 8;    ///< Relaxation passes over the layout curves once the topology is fixed.
+    std::function<void(const std::string&)> progress;  ///< Called with a short message per stage; may be empty.
+    std::string validate() const;    ///< Empty if valid, else what is wrong.
+};
+
+/// Quality figures of a layout (issue #4); all dimensionless.
+struct LayoutQuality {
+    double patch_area_max_over_min = 0;       ///< Largest over smallest patch area.
+    double corner_angle_mean_deviation_deg = 0;  ///< Mean |sector angle - 360/degree| over corner sectors.
+    double corner_angle_max_deviation_deg = 0;
+    double distortion_mean = 0;  ///< Area-weighted mean conformal distortion (sigma1/sigma2) of the patch maps.
+    double distortion_max = 0;
+    double edge_length_over_sqrt_area = 0;    ///< Total length of the layout edges / sqrt(surface area).
+    int flipped_triangles = 0;                ///< Triangles whose (u, v) image has non-positive area.
+};
+
+/// A quad layout on a (possibly refined) copy of the input surface.
+struct QuadLayout {
+    Mesh mesh;               ///< The surface all curves and patches live on: the input's points first,
+                             ///< in order and unmoved, then new points on input edges.
+    int input_vertices = 0;
+    int genus = 0;
+    subdiv::Cage cage;       ///< Level-0 cage: corners are mesh vertices (positions on the surface).
+    std::vector<int> corner_vertex;   ///< Mesh vertex of each cage corner.
+    std::vector<int> triangle_patch;  ///< Cage quad of each mesh triangle.
+    /// (u, v) of each triangle's three corners in its patch's square (corner k of the cage quad at
+    /// (0,0), (1,0), (1,1), (0,1) for k = 0..3). A vertex on a patch side has, in each of the two
+    /// patches, coordinates on that side at the same arc-length fraction.
+    std::vector<std::array<UV, 3>> corner_uv;
+    /// Mesh-vertex paths of the layout edges, from edge.corners[0] to edge.corners[1].
+    std::vector<std::vector<int>> edge_paths;
+    std::vector<Cycle> orthogonal_system;  ///< The 2g cycles the layout was built from (empty for g = 0).
+    std::vector<Cycle> s_cycles;           ///< The 4g-4 cycles S_i of Algorithm 1 (empty for g <= 1).
+    LayoutQuality quality;
+};
+
+/// The minimal quad layout of a closed, connected, orientable manifold mesh: for genus g >= 2,
+/// 10g-10 quads and 8g-8 corners of degree 5 (Algorithm 1: 4g-4 cycles S_i cut the surface into
+/// 2g-2 handles of 2 quads and g-1 T-shirts of 6 quads); for g = 1, 4 quads with 4 corners of degree
+/// 4 (Remark 1); for g = 0, a cube (6 quads, 8 corners of degree 3). Runs verify_quad_layout() on its
+/// result. Deterministic.
+/// \pre mesh is closed, connected, manifold, consistently oriented outward (core::prepare_for_quadding()).
+/// \throw InvalidInput if the precondition fails or the genus exceeds options.cycles.max_genus.
+QuadLayout build_quad_layout(const Mesh& mesh, const QuadLayoutOptions& options = {});
+
+/// Checks a layout: the cage is valid (subdiv::check_cage); counts and degrees are the minimum for
+/// the genus; every patch is a connected disk whose boundary is a simple loop through its 4 corners
+/// in the cage quad's order along the recorded edge paths (paper, rules i-iii); the maps into
+/// [0,1]^2 put corners at the unit square's corners, agree on shared sides and flip no triangle.
+/// Returns "" if all hold, else what fails.
+std::string verify_quad_layout(const QuadLayout& layout);
+
+}  // namespace quadcage::layout
