@@ -12,6 +12,7 @@
 #include <tuple>
 #include <unordered_set>
 
+#include "detail/curves.h"
 #include "detail/surface.h"
 #include "quadcage/core/errors.h"
 #include "quadcage/core/validate.h"
@@ -22,6 +23,11 @@ namespace {
 using detail::PathResult;
 using detail::PathSearch;
 using detail::Surface;
+using detail::Builder;
+using detail::edge_key;
+using detail::neighbours_on;
+using detail::sectors;
+using detail::spread;
 using Class = std::bitset<128>;  // Z2 homology class: one bit per tree-cotree generator
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
@@ -153,117 +159,6 @@ Cycle loop_through(const Surface& s, const PathResult& r, int h) {
     return c;
 }
 
-// Sectors of vertex x on a curve through prev -> x -> next: the neighbours strictly between prev
-// and next in rotation order (sector 0) and between next and prev (sector 1).
-std::array<std::vector<int>, 2> sectors(const Surface& s, int x, int prev, int next) {
-    const std::vector<int> ring = s.ring(x);
-    const int n = static_cast<int>(ring.size());
-    const int ip = static_cast<int>(std::find(ring.begin(), ring.end(), prev) - ring.begin());
-    const int in = static_cast<int>(std::find(ring.begin(), ring.end(), next) - ring.begin());
-    QC_CHECK(ip < n && in < n, "sectors: curve neighbours not adjacent");
-    std::array<std::vector<int>, 2> out;
-    for (int k = (ip + 1) % n; k != in; k = (k + 1) % n) out[0].push_back(ring[k]);
-    for (int k = (in + 1) % n; k != ip; k = (k + 1) % n) out[1].push_back(ring[k]);
-    return out;
-}
-
-std::pair<int, int> neighbours_on(const Cycle& c, int x) {
-    const auto it = std::find(c.begin(), c.end(), x);
-    QC_CHECK(it != c.end(), "neighbours_on: vertex not on the curve");
-    const size_t i = static_cast<size_t>(it - c.begin());
-    return {c[(i + c.size() - 1) % c.size()], c[(i + 1) % c.size()]};
-}
-
-std::uint64_t edge_key(int a, int b) {
-    return (static_cast<std::uint64_t>(std::min(a, b)) << 32) | static_cast<std::uint32_t>(std::max(a, b));
-}
-
-// State of the construction: the surface, the curves, and which of them are obstacles now.
-class Builder {
-public:
-    Builder(const Mesh& mesh, const OrthogonalSystemOptions& o) : s_(mesh), o_(o) {
-        sigma_ = o.repulsion_radius * std::sqrt(surface_area(mesh));
-    }
-
-    Surface s_;
-    const OrthogonalSystemOptions& o_;
-    double sigma_ = 1;
-    std::vector<Cycle> curves_;   // every curve built so far
-    std::vector<char> obstacle_;  // per curve: does the current search avoid it
-    int splits_ = 0;
-
-    std::vector<char> blocked() const {
-        std::vector<char> b(s_.num_vertices(), 0);
-        for (size_t c = 0; c < curves_.size(); ++c)
-            if (obstacle_[c])
-                for (int v : curves_[c]) b[v] = 1;
-        return b;
-    }
-
-    // Splits every edge whose two ends are on obstacle curves but which no curve walks along, so
-    // that paths can pass between curves that run side by side (design.md §4, step 5).
-    void split_chords(const std::vector<Cycle>& extra = {}) {
-        std::vector<char> on = blocked();
-        std::unordered_set<std::uint64_t> curve_edges;
-        auto add_curve = [&](const Cycle& c) {
-            for (size_t i = 0; i < c.size(); ++i) curve_edges.insert(edge_key(c[i], c[(i + 1) % c.size()]));
-        };
-        for (size_t c = 0; c < curves_.size(); ++c)
-            if (obstacle_[c]) add_curve(curves_[c]);  // an edge of a curve that is no obstacle is a chord too
-        for (const Cycle& c : extra) {
-            add_curve(c);
-            for (int v : c) on[v] = 1;
-        }
-        std::vector<std::pair<int, int>> chords;
-        for (int h = 0; h < s_.num_half_edges(); ++h) {
-            const int a = s_.from(h), b = s_.to(h);
-            if (a < b && on[a] && on[b] && !curve_edges.count(edge_key(a, b))) chords.push_back({a, b});
-        }
-        if (chords.empty()) return;
-        s_.split_edges(chords);
-        splits_ += static_cast<int>(chords.size());
-    }
-
-    // Cost of walking half-edge h: its length, more near obstacle curves (avoids hugging them).
-    std::function<double(int)> cost_near(const std::vector<char>& block) const {
-        if (o_.repulsion <= 0) return {};
-        PathSearch q;
-        for (int v = 0; v < s_.num_vertices(); ++v)
-            if (block[v]) q.sources.push_back({v, 0.0});
-        q.max_distance = 8 * sigma_;  // the penalty is below 3e-3 beyond
-        auto field = std::make_shared<std::vector<double>>(detail::dijkstra(s_, q).distance);
-        const Surface* s = &s_;
-        const double a = o_.repulsion, sigma = sigma_;
-        return [s, field, a, sigma](int h) {
-            const double d = 0.5 * ((*field)[s->from(h)] + (*field)[s->to(h)]);
-            return s->length(h) * (1.0 + a * std::exp(-d / sigma));
-        };
-    }
-
-    double edge_cost(const std::function<double(int)>& cost, int a, int b) const {
-        const int h = s_.find_half_edge(a, b);
-        return cost ? cost(h) : s_.length(h);
-    }
-
-    // Shortest path leaving x through `from_sector` and reaching y through `to_sector` (vertices
-    // of the sectors that are not blocked). Returns the interior vertices, or empty.
-    std::vector<int> sector_path(int x, const std::vector<int>& from_sector, int y, const std::vector<int>& to_sector,
-                                 const std::vector<char>& block, const std::function<double(int)>& cost,
-                                 double* total) const {
-        PathSearch q;
-        q.blocked = &block;
-        q.cost = cost;
-        for (int n : from_sector)
-            if (!block[n]) q.sources.push_back({n, edge_cost(cost, x, n)});
-        for (int n : to_sector)
-            if (!block[n]) q.targets.push_back({n, edge_cost(cost, n, y)});
-        if (q.sources.empty() || q.targets.empty()) return {};
-        const PathResult r = detail::dijkstra(s_, q);
-        if (r.target < 0) return {};
-        if (total) *total = r.target_cost;
-        return r.path_to(s_, r.target);
-    }
-};
 
 // Step 1: a1..ag, disjoint, with independent homology classes, each the shortest found.
 std::vector<Cycle> independent_loops(Builder& b, int genus, std::vector<double>* lengths) {
@@ -388,16 +283,6 @@ std::vector<int> chain_order(const Builder& b, const std::vector<Cycle>& loops) 
     return order;
 }
 
-// Up to k vertices spread evenly along a curve, skipping those `skip` rejects.
-std::vector<int> spread(const Cycle& c, int k, const std::function<bool(int)>& skip) {
-    std::vector<int> ok;
-    for (int v : c)
-        if (!skip(v)) ok.push_back(v);
-    std::vector<int> out;
-    const int n = static_cast<int>(ok.size());
-    for (int i = 0; i < std::min(k, n); ++i) out.push_back(ok[static_cast<size_t>(i) * n / std::min(k, n)]);
-    return out;
-}
 
 // Steps 3 and 4 on a copy of the builder: b_i crossing a_i once, c_i joining b_i and b(i+1); the
 // loops enter in chain `order` (order[0] stays as a1).
@@ -412,8 +297,7 @@ Chain build_chain(Builder b, const std::vector<Cycle>& loops, const std::vector<
                   const std::function<void(const std::string&)>& say) {
     // Curves: the g loops in chain order first, then the b's and c's as they come.
     for (int i : order) {
-        b.curves_.push_back(loops[i]);
-        b.obstacle_.push_back(1);
+        b.add_curve(loops[i]);
     }
     const int g = static_cast<int>(order.size());
     std::vector<int> b_index(g), c_index;
@@ -440,8 +324,7 @@ Chain build_chain(Builder b, const std::vector<Cycle>& loops, const std::vector<
         }
         QC_CHECK(!best_b.empty(), "no curve crosses handle loop " + std::to_string(i + 1) + " once");
         b_index[i] = static_cast<int>(b.curves_.size());
-        b.curves_.push_back(best_b);
-        b.obstacle_.push_back(1);
+        b.add_curve(best_b);
     }
 
     // Step 4: c_i crosses b_i and b(i+1) once each, avoiding a1, every b and the earlier c's.
@@ -541,8 +424,7 @@ Chain build_chain(Builder b, const std::vector<Cycle>& loops, const std::vector<
         }
         QC_CHECK(!ci.empty(), "no curve joins b" + std::to_string(i + 1) + " and b" + std::to_string(i + 2));
         c_index.push_back(static_cast<int>(b.curves_.size()));
-        b.curves_.push_back(ci);
-        b.obstacle_.push_back(1);
+        b.add_curve(ci);
     }
 
     Chain out;

@@ -1,0 +1,160 @@
+#include "detail/curves.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <memory>
+#include <unordered_set>
+
+#include "quadcage/core/errors.h"
+
+namespace quadcage::layout::detail {
+
+// Sectors of vertex x on a curve through prev -> x -> next: the neighbours strictly between prev
+// and next in rotation order (sector 0) and between next and prev (sector 1).
+std::array<std::vector<int>, 2> sectors(const Surface& s, int x, int prev, int next) {
+    const std::vector<int> ring = s.ring(x);
+    const int n = static_cast<int>(ring.size());
+    const int ip = static_cast<int>(std::find(ring.begin(), ring.end(), prev) - ring.begin());
+    const int in = static_cast<int>(std::find(ring.begin(), ring.end(), next) - ring.begin());
+    QC_CHECK(ip < n && in < n, "sectors: curve neighbours not adjacent");
+    std::array<std::vector<int>, 2> out;
+    for (int k = (ip + 1) % n; k != in; k = (k + 1) % n) out[0].push_back(ring[k]);
+    for (int k = (in + 1) % n; k != ip; k = (k + 1) % n) out[1].push_back(ring[k]);
+    return out;
+}
+
+std::pair<int, int> neighbours_on(const Cycle& c, int x) {
+    const auto it = std::find(c.begin(), c.end(), x);
+    QC_CHECK(it != c.end(), "neighbours_on: vertex not on the curve");
+    const size_t i = static_cast<size_t>(it - c.begin());
+    return {c[(i + c.size() - 1) % c.size()], c[(i + 1) % c.size()]};
+}
+
+std::uint64_t edge_key(int a, int b) {
+    return (static_cast<std::uint64_t>(std::min(a, b)) << 32) | static_cast<std::uint32_t>(std::max(a, b));
+}
+
+// Up to k vertices spread evenly along a curve, skipping those `skip` rejects.
+std::vector<int> spread(const Cycle& c, int k, const std::function<bool(int)>& skip) {
+    std::vector<int> ok;
+    for (int v : c)
+        if (!skip(v)) ok.push_back(v);
+    std::vector<int> out;
+    const int n = static_cast<int>(ok.size());
+    for (int i = 0; i < std::min(k, n); ++i) out.push_back(ok[static_cast<size_t>(i) * n / std::min(k, n)]);
+    return out;
+}
+
+Builder::Builder(const Mesh& mesh, const OrthogonalSystemOptions& o) : s_(mesh), o_(o) {
+    sigma_ = o.repulsion_radius * std::sqrt(surface_area(mesh));
+}
+
+int Builder::add_curve(Cycle c, bool closed, bool obstacle) {
+    curves_.push_back(std::move(c));
+    closed_.push_back(closed);
+    obstacle_.push_back(obstacle);
+    return static_cast<int>(curves_.size()) - 1;
+}
+
+std::vector<char> Builder::blocked() const {
+    std::vector<char> b(s_.num_vertices(), 0);
+    for (size_t c = 0; c < curves_.size(); ++c)
+        if (obstacle_[c])
+            for (int v : curves_[c]) b[v] = 1;
+    return b;
+}
+
+int Builder::split_chords(const std::vector<Cycle>& extra) {
+    std::vector<char> on = blocked();
+    std::unordered_set<std::uint64_t> curve_edges;
+    auto add = [&](const Cycle& c, bool closed) {
+        const size_t n = c.size();
+        for (size_t i = 0; i + (closed ? 0 : 1) < n; ++i) curve_edges.insert(edge_key(c[i], c[(i + 1) % n]));
+    };
+    for (size_t c = 0; c < curves_.size(); ++c)
+        if (obstacle_[c]) add(curves_[c], closed_[c]);  // an edge of a curve that is no obstacle is a chord too
+    for (const Cycle& c : extra) {
+        add(c, false);
+        for (int v : c) on[v] = 1;
+    }
+    std::vector<std::pair<int, int>> chords;
+    for (int h = 0; h < s_.num_half_edges(); ++h) {
+        const int a = s_.from(h), b = s_.to(h);
+        if (a < b && on[a] && on[b] && !curve_edges.count(edge_key(a, b))) chords.push_back({a, b});
+    }
+    if (chords.empty()) return 0;
+    split_curve_edges(chords);
+    return static_cast<int>(chords.size());
+}
+
+void Builder::split_curve_edges(const std::vector<std::pair<int, int>>& edges) {
+    if (edges.empty()) return;
+    const std::vector<int> mids = s_.split_edges(edges);
+    std::vector<std::array<int, 3>> split;
+    for (size_t i = 0; i < edges.size(); ++i) split.push_back({edges[i].first, edges[i].second, mids[i]});
+    std::vector<std::vector<int>> closed, open;
+    for (size_t c = 0; c < curves_.size(); ++c) (closed_[c] ? closed : open).push_back(std::move(curves_[c]));
+    insert_midpoints(closed, split);
+    insert_midpoints_open(open, split);
+    size_t ic = 0, io = 0;
+    for (size_t c = 0; c < curves_.size(); ++c) curves_[c] = std::move(closed_[c] ? closed[ic++] : open[io++]);
+    splits_ += static_cast<int>(edges.size());
+}
+
+std::function<double(int)> Builder::cost_near(const std::vector<char>& block) const {
+    if (o_.repulsion <= 0) return {};
+    PathSearch q;
+    for (int v = 0; v < s_.num_vertices(); ++v)
+        if (block[v]) q.sources.push_back({v, 0.0});
+    q.max_distance = 8 * sigma_;  // the penalty is below 3e-3 beyond
+    auto field = std::make_shared<std::vector<double>>(dijkstra(s_, q).distance);
+    const Surface* s = &s_;
+    const double a = o_.repulsion, sigma = sigma_;
+    return [s, field, a, sigma](int h) {
+        const double d = 0.5 * ((*field)[s->from(h)] + (*field)[s->to(h)]);
+        return s->length(h) * (1.0 + a * std::exp(-d / sigma));
+    };
+}
+
+double Builder::edge_cost(const std::function<double(int)>& cost, int a, int b) const {
+    const int h = s_.find_half_edge(a, b);
+    return cost ? cost(h) : s_.length(h);
+}
+
+std::vector<int> Builder::sector_path(int x, const std::vector<int>& from_sector, int y,
+                                      const std::vector<int>& to_sector, const std::vector<char>& block,
+                                      const std::function<double(int)>& cost, double* total) const {
+    PathSearch q;
+    q.blocked = &block;
+    q.cost = cost;
+    for (int n : from_sector)
+        if (!block[n]) q.sources.push_back({n, edge_cost(cost, x, n)});
+    for (int n : to_sector)
+        if (!block[n]) q.targets.push_back({n, edge_cost(cost, n, y)});
+    if (q.sources.empty() || q.targets.empty()) return {};
+    const PathResult r = dijkstra(s_, q);
+    if (r.target < 0) return {};
+    if (total) *total = r.target_cost;
+    return r.path_to(s_, r.target);
+}
+
+void insert_midpoints_open(std::vector<std::vector<int>>& paths, const std::vector<std::array<int, 3>>& split) {
+    if (split.empty()) return;
+    std::map<std::pair<int, int>, int> mid;
+    for (const auto& s : split) mid[{std::min(s[0], s[1]), std::max(s[0], s[1])}] = s[2];
+    for (std::vector<int>& p : paths) {
+        std::vector<int> out;
+        out.reserve(p.size());
+        for (size_t i = 0; i < p.size(); ++i) {
+            out.push_back(p[i]);
+            if (i + 1 == p.size()) break;
+            auto it = mid.find({std::min(p[i], p[i + 1]), std::max(p[i], p[i + 1])});
+            if (it != mid.end()) out.push_back(it->second);
+        }
+        p = std::move(out);
+    }
+}
+
+}  // namespace quadcage::layout::detail

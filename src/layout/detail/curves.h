@@ -1,0 +1,78 @@
+#pragma once
+// Curves on a Surface: the rotation-order sectors of a vertex on a curve, and the state shared by
+// every curve construction (orthogonal system, S-cycles, layout arcs): the surface being refined,
+// the curves built so far, which of them block a search, chord splitting for room and a path cost
+// that keeps new curves away from old ones (design.md §4).
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <utility>
+#include <vector>
+
+#include "detail/surface.h"
+#include "quadcage/layout/orthogonal_system.h"
+
+namespace quadcage::layout::detail {
+
+/// Sectors of vertex x on a curve through prev -> x -> next: the neighbours strictly between prev
+/// and next in rotation order (sector 0) and strictly between next and prev (sector 1). Sector 0
+/// starts next to triangle (x, prev, ...): the triangle of half-edge x -> prev lies in sector 0.
+std::array<std::vector<int>, 2> sectors(const Surface& s, int x, int prev, int next);
+
+/// The vertices before and after x on a closed curve.
+std::pair<int, int> neighbours_on(const Cycle& c, int x);
+
+/// A key for the undirected edge a-b.
+std::uint64_t edge_key(int a, int b);
+
+/// Up to k vertices spread evenly along a curve, skipping those `skip` rejects.
+std::vector<int> spread(const Cycle& c, int k, const std::function<bool(int)>& skip);
+
+/// State of a curve construction: the surface, the curves, and which of them are obstacles now.
+/// Copyable: trying alternatives on a copy is how constructions pick the shorter of two routes.
+class Builder {
+public:
+    Builder(const Mesh& mesh, const OrthogonalSystemOptions& o);
+
+    Surface s_;
+    const OrthogonalSystemOptions& o_;
+    double sigma_ = 1;
+    std::vector<Cycle> curves_;   ///< Every curve built so far (open paths too, as vertex lists).
+    std::vector<char> obstacle_;  ///< Per curve: does the current search avoid it.
+    std::vector<char> closed_;    ///< Per curve: closed (a cycle) or an open path.
+    int splits_ = 0;
+
+    /// Adds a curve; returns its index.
+    int add_curve(Cycle c, bool closed = true, bool obstacle = true);
+
+    /// Vertices on obstacle curves.
+    std::vector<char> blocked() const;
+
+    /// Splits every edge whose two ends are on obstacle curves (or `extra` curves) but which no
+    /// such curve walks along, so that paths can pass between curves that run side by side
+    /// (design.md §4, step 5). Curves get the midpoints of their own split edges (none: a curve
+    /// edge is never a chord). Returns the number of edges split.
+    int split_chords(const std::vector<Cycle>& extra = {});
+
+    /// Splits the given edges at their midpoints and inserts the midpoints into every curve that
+    /// walks along them.
+    void split_curve_edges(const std::vector<std::pair<int, int>>& edges);
+
+    /// Cost of walking half-edge h: its length, more near blocked vertices (avoids hugging them).
+    std::function<double(int)> cost_near(const std::vector<char>& block) const;
+
+    double edge_cost(const std::function<double(int)>& cost, int a, int b) const;
+
+    /// Shortest path leaving x through `from_sector` and reaching y through `to_sector` (vertices
+    /// of the sectors that are not blocked). Returns the interior vertices, or empty.
+    std::vector<int> sector_path(int x, const std::vector<int>& from_sector, int y, const std::vector<int>& to_sector,
+                                 const std::vector<char>& block, const std::function<double(int)>& cost,
+                                 double* total) const;
+};
+
+/// Inserts into each open path the midpoints of its split edges (insert_midpoints() for paths
+/// that do not close).
+void insert_midpoints_open(std::vector<std::vector<int>>& paths, const std::vector<std::array<int, 3>>& split);
+
+}  // namespace quadcage::layout::detail
