@@ -6,6 +6,8 @@
 #include <filesystem>
 #include <functional>
 #include <iostream>
+#include <map>
+#include <sstream>
 #include <nlohmann/json.hpp>
 #include <sys/resource.h>
 
@@ -17,6 +19,8 @@
 #include "quadcage/core/validate.h"
 #include "quadcage/fit/backend.h"
 #include "quadcage/layout/orthogonal_system.h"
+#include "quadcage/layout/quad_layout.h"
+#include "quadcage/subdiv/cage.h"
 #include "quadcage/subdiv/catmull_clark.h"
 
 namespace quadcage::cli {
@@ -152,7 +156,159 @@ double peak_memory_mib() {
 // Handles shorter than this fraction of sqrt(area) are flagged as likely topological noise.
 constexpr double kTinyHandle = 0.02;
 
+
+// OBJ text of a quad mesh (1-based faces, 17 significant digits).
+std::string quad_obj(const std::vector<Vec3>& points, const std::vector<std::array<int, 4>>& quads,
+                     const std::string& comment) {
+    std::ostringstream out;
+    out.precision(17);
+    out << "# " << comment << "\n";
+    for (const Vec3& p : points) out << "v " << p.x << " " << p.y << " " << p.z << "\n";
+    for (const auto& q : quads) out << "f " << q[0] + 1 << " " << q[1] + 1 << " " << q[2] + 1 << " " << q[3] + 1 << "\n";
+    return out.str();
+}
+
+// Everything `layout` writes for one component, rendered in memory before any file is written.
+struct LayoutFiles {
+    std::string dir;
+    Mesh mesh;
+    PlyExtras extras;
+    std::string cage_obj, cage_level1_obj;
+    json cage, cycles, report;
+};
+
+LayoutFiles layout_files(const layout::QuadLayout& L, const std::string& dir) {
+    LayoutFiles f;
+    f.dir = dir;
+    f.mesh = L.mesh;
+    f.extras.face_int_name = "patch";
+    f.extras.face_ints = L.triangle_patch;
+    std::vector<std::array<int, 4>> quads;
+    for (const auto& q : L.cage.quads) quads.push_back(q.corners);
+    f.cage_obj = quad_obj(L.cage.points, quads,
+                          "quadcage level-0 cage: " + std::to_string(quads.size()) +
+                              " quads; OBJ cannot tell multi-edges apart, cage.json has the exact topology");
+    const subdiv::CageRefinement r1 = subdiv::refine_cage(L.cage);
+    f.cage_level1_obj = quad_obj(r1.level1.points, r1.level1.quads,
+                                 "quadcage level-1 cage: one Catmull-Clark step of the level-0 cage (same limit surface)");
+    json corners = json::array(), edges = json::array(), jquads = json::array();
+    for (int c = 0; c < L.cage.num_corners(); ++c) {
+        const Vec3& p = L.cage.points[c];
+        corners.push_back({{"position", {p.x, p.y, p.z}}, {"vertex", L.corner_vertex[c]}});
+    }
+    for (size_t e = 0; e < L.cage.edges.size(); ++e) {
+        const auto& E = L.cage.edges[e];
+        edges.push_back({{"corners", {E.corners[0], E.corners[1]}},
+                         {"sides", {{{"quad", E.quads[0]}, {"side", E.sides[0]}}, {{"quad", E.quads[1]}, {"side", E.sides[1]}}}},
+                         {"path", L.edge_paths[e]}});
+    }
+    for (const auto& q : L.cage.quads) jquads.push_back({{"corners", q.corners}, {"edges", q.edges}});
+    f.cage = {{"genus", L.genus},
+              {"note", "side k of a quad runs from corners[k] to corners[k+1] along edges[k]; quads are "
+                       "counter-clockwise seen from outside; path: layout.ply vertices from corners[0] to corners[1]"},
+              {"corners", corners},
+              {"edges", edges},
+              {"quads", jquads}};
+    f.cycles = {{"genus", L.genus}, {"orthogonal_system", cycles_json(L.orthogonal_system)}, {"s_cycles", cycles_json(L.s_cycles)}};
+    std::map<int, int> histogram;
+    {
+        std::vector<int> degree(L.cage.num_corners(), 0);
+        for (const auto& e : L.cage.edges)
+            for (int c : e.corners) ++degree[c];
+        for (int d : degree) ++histogram[d];
+    }
+    json hist = json::object();
+    for (const auto& [d, count] : histogram) hist[std::to_string(d)] = count;
+    const auto& q = L.quality;
+    f.report = {{"command", "layout"},
+                {"genus", L.genus},
+                {"input_vertices", L.input_vertices},
+                {"vertices", L.mesh.num_vertices()},
+                {"triangles", L.mesh.num_triangles()},
+                {"vertices_added", L.mesh.num_vertices() - L.input_vertices},
+                {"quads", L.cage.num_quads()},
+                {"corners", L.cage.num_corners()},
+                {"edges", L.cage.num_edges()},
+                {"degree_histogram", hist},
+                {"s_cycles", L.s_cycles.size()},
+                {"level1", {{"quads", r1.level1.num_quads()}, {"vertices", r1.level1.num_vertices()}}},
+                {"verified", true},
+                {"quality",
+                 {{"patch_area_max_over_min", q.patch_area_max_over_min},
+                  {"corner_angle_mean_deviation_deg", q.corner_angle_mean_deviation_deg},
+                  {"corner_angle_max_deviation_deg", q.corner_angle_max_deviation_deg},
+                  {"distortion_mean", q.distortion_mean},
+                  {"distortion_max", q.distortion_max},
+                  {"edge_length_over_sqrt_area", q.edge_length_over_sqrt_area},
+                  {"flipped_triangles", q.flipped_triangles}}}};
+    const double total = L.seconds.cycles + L.seconds.curves + L.seconds.parameterization + L.seconds.verification;
+    f.report["seconds"] = {{"cycles", L.seconds.cycles},
+                           {"curves", L.seconds.curves},
+                           {"parameterization", L.seconds.parameterization},
+                           {"verification", L.seconds.verification},
+                           {"total", total}};
+    return f;
+}
+
+void write_layout_files(const LayoutFiles& f) {
+    make_output_dir(f.dir);
+    write_ply(output_path(f.dir, "layout.ply"), f.mesh, f.extras);
+    write_text_file(output_path(f.dir, "cage.obj"), f.cage_obj);
+    write_text_file(output_path(f.dir, "cage_level1.obj"), f.cage_level1_obj);
+    write_text_file(output_path(f.dir, "cage.json"), f.cage.dump() + "\n");
+    write_text_file(output_path(f.dir, "cycles.json"), f.cycles.dump() + "\n");
+    write_text_file(output_path(f.dir, "report.json"), f.report.dump(2) + "\n");
+}
+
 }  // namespace
+
+int run_layout(const LayoutOptions& o) {
+    Progress progress(o.quiet);
+    progress.say("loading " + o.mesh);
+    const Mesh input = read_mesh(o.mesh);
+    const PreparedMesh prepared = prepare_for_quadding(input, o.mesh);
+    const size_t nc = prepared.components.size();
+    std::vector<LayoutFiles> pending;
+    json top = {{"command", "layout"}, {"input", o.mesh}, {"components", nc}, {"quads", 0}, {"corners", 0}, {"edges", 0}};
+    json parts = json::array();
+    std::map<std::string, int> histogram;
+    for (size_t c = 0; c < nc; ++c) {
+        const std::string dir = nc == 1 ? o.output_dir : output_path(o.output_dir, "component_" + std::to_string(c));
+        const std::string tag = nc == 1 ? "" : "component " + std::to_string(c) + ": ";
+        layout::QuadLayoutOptions options;
+        options.progress = progress.callback(tag);
+        const layout::QuadLayout L = layout::build_quad_layout(prepared.components[c], options);
+        LayoutFiles f = layout_files(L, dir);
+        f.report["input"] = o.mesh;
+        f.report["component"] = c;
+        f.report["components"] = nc;
+        f.report["peak_memory_mib"] = peak_memory_mib();
+        for (const auto& [d, count] : f.report["degree_histogram"].items()) histogram[d] += count.get<int>();
+        top["quads"] = top["quads"].get<int>() + L.cage.num_quads();
+        top["corners"] = top["corners"].get<int>() + L.cage.num_corners();
+        top["edges"] = top["edges"].get<int>() + L.cage.num_edges();
+        parts.push_back(f.report);
+        const auto& q = L.quality;
+        std::printf("%sgenus %d: %d quads, %d corners (all of degree %d), verified; patch area max/min %.3g, "
+                    "corner angle deviation %.1f deg, distortion mean %.2f max %.3g; %.2f s\n",
+                    tag.c_str(), L.genus, L.cage.num_quads(), L.cage.num_corners(),
+                    L.genus >= 2 ? 5 : (L.genus == 1 ? 4 : 3), q.patch_area_max_over_min,
+                    q.corner_angle_mean_deviation_deg, q.distortion_mean, q.distortion_max,
+                    f.report["seconds"]["total"].get<double>());
+        pending.push_back(std::move(f));
+    }
+    for (const LayoutFiles& f : pending) write_layout_files(f);
+    if (nc > 1) {
+        top["degree_histogram"] = histogram;
+        top["component_reports"] = parts;
+        top["verified"] = true;
+        top["seconds"] = {{"total", progress.seconds()}};
+        top["peak_memory_mib"] = peak_memory_mib();
+        write_text_file(output_path(o.output_dir, "report.json"), top.dump(2) + "\n");
+    }
+    progress.say("wrote " + o.output_dir);
+    return kOk;
+}
 
 int run_cycles(const CyclesOptions& o) {
     Progress progress(o.quiet);

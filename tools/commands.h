@@ -23,6 +23,13 @@ struct CyclesOptions {
 };
 int run_cycles(const CyclesOptions& options);
 
+struct LayoutOptions {
+    std::string mesh;
+    std::string output_dir;
+    bool quiet = false;  ///< No progress on stderr.
+};
+int run_layout(const LayoutOptions& options);
+
 struct GenerateOptions {
     std::string shape;   ///< "sphere", "torus" or "plate".
     int genus = 2;       ///< plate only.

@@ -34,6 +34,17 @@ int main(int argc, char** argv) {
     cycles_cmd->add_option("-o,--output", cycles.output_dir, "Output directory (created if missing)")->required();
     cycles_cmd->add_flag("-q,--quiet", cycles.quiet, "No progress messages on stderr");
 
+    LayoutOptions layout;
+    CLI::App* layout_cmd = app.add_subcommand(
+        "layout", "Build the minimal quad layout of each component: 10g-10 quads with all 8g-8 corners of\n"
+                  "degree 5 for genus g >= 2 (paper, Algorithm 1), 4 quads for a torus, a 6-quad cube for a\n"
+                  "sphere; verified before anything is written. Writes DIR/layout.ply (face property patch),\n"
+                  "cage.obj, cage.json (exact topology), cage_level1.obj, cycles.json and report.json; a mesh\n"
+                  "of several components gets DIR/component_<i>/ each.");
+    layout_cmd->add_option("MESH", layout.mesh, "Closed triangle mesh: OBJ, PLY, OFF or STL")->required();
+    layout_cmd->add_option("-o,--output", layout.output_dir, "Output directory (created if missing)")->required();
+    layout_cmd->add_flag("-q,--quiet", layout.quiet, "No progress messages on stderr");
+
     CLI::App* version_cmd = app.add_subcommand(
         "version", "Print the versions of quadcage and the libraries it runs on (each checked by a call).");
 
@@ -64,6 +75,7 @@ int main(int argc, char** argv) {
         if (*info_cmd) return run_info(info);
         if (*version_cmd) return run_version();
         if (*cycles_cmd) return run_cycles(cycles);
+        if (*layout_cmd) return run_layout(layout);
         if (*gen_cmd) return run_generate(gen);
         if (*sub_cmd) return run_subdivide(sub);
     } catch (const quadcage::InvalidInput& e) {

@@ -103,11 +103,12 @@ void Builder::split_curve_edges(const std::vector<std::pair<int, int>>& edges) {
     splits_ += static_cast<int>(edges.size());
 }
 
-std::function<double(int)> Builder::cost_near(const std::vector<char>& block) const {
+std::function<double(int)> Builder::cost_near(const std::vector<char>& block, const std::vector<char>* outside) const {
     if (o_.repulsion <= 0) return {};
     PathSearch q;
     for (int v = 0; v < s_.num_vertices(); ++v)
-        if (block[v]) q.sources.push_back({v, 0.0});
+        if (block[v] && !(outside && (*outside)[v])) q.sources.push_back({v, 0.0});
+    q.blocked = outside;
     q.max_distance = 8 * sigma_;  // the penalty is below 3e-3 beyond
     auto field = std::make_shared<std::vector<double>>(dijkstra(s_, q).distance);
     const Surface* s = &s_;

@@ -19,7 +19,6 @@ using UV = std::array<double, 2>;
 /// Options for build_quad_layout().
 struct QuadLayoutOptions {
     OrthogonalSystemOptions cycles;  ///< For the orthogonal system the layout starts from (g >= 1).
-    int smoothing_iterations = 8;    ///< Relaxation passes over the layout curves once the topology is fixed.
     std::function<void(const std::string&)> progress;  ///< Called with a short message per stage; may be empty.
     std::string validate() const;    ///< Empty if valid, else what is wrong.
 };
@@ -53,6 +52,13 @@ struct QuadLayout {
     std::vector<Cycle> orthogonal_system;  ///< The 2g cycles the layout was built from (empty for g = 0).
     std::vector<Cycle> s_cycles;           ///< The 4g-4 cycles S_i of Algorithm 1 (empty for g <= 1).
     LayoutQuality quality;
+    /// Wall-clock seconds by stage.
+    struct Seconds {
+        double cycles = 0;            ///< Orthogonal system (and refinement of small meshes).
+        double curves = 0;            ///< S-cycles, rings and arcs (the layout curves).
+        double parameterization = 0;  ///< Cage extraction and the patch maps.
+        double verification = 0;      ///< verify_quad_layout() and quality figures.
+    } seconds;
 };
 
 /// The minimal quad layout of a closed, connected, orientable manifold mesh: for genus g >= 2,

@@ -36,7 +36,7 @@ public:
     Builder(const Mesh& mesh, const OrthogonalSystemOptions& o);
 
     Surface s_;
-    const OrthogonalSystemOptions& o_;
+    OrthogonalSystemOptions o_;
     double sigma_ = 1;
     std::vector<Cycle> curves_;   ///< Every curve built so far (open paths too, as vertex lists).
     std::vector<char> obstacle_;  ///< Per curve: does the current search avoid it.
@@ -60,7 +60,9 @@ public:
     void split_curve_edges(const std::vector<std::pair<int, int>>& edges);
 
     /// Cost of walking half-edge h: its length, more near blocked vertices (avoids hugging them).
-    std::function<double(int)> cost_near(const std::vector<char>& block) const;
+    /// With `outside`, the distance field neither starts from nor enters vertices marked there
+    /// (a search confined to one region pays only for that region).
+    std::function<double(int)> cost_near(const std::vector<char>& block, const std::vector<char>* outside = nullptr) const;
 
     double edge_cost(const std::function<double(int)>& cost, int a, int b) const;
 

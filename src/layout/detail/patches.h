@@ -1,0 +1,50 @@
+#pragma once
+// From a network of layout curves on a surface to the cage, the patches and their maps onto the
+// unit square (design.md §3, §5).
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include "detail/surface.h"
+#include "quadcage/layout/quad_layout.h"
+
+namespace quadcage::layout::detail {
+
+/// Marks both half-edges of every edge walked by the given vertex paths (open paths).
+std::vector<char> cut_half_edges(const Surface& s, const std::vector<std::vector<int>>& paths);
+
+/// Labels triangles by the components of the surface cut along `cut` half-edges; components are
+/// numbered in the order of their lowest triangle. Returns the number of components.
+int face_components(const Surface& s, const std::vector<char>& cut, std::vector<int>* label);
+
+/// The next boundary half-edge of a region after h: around to(h), inside the region of h's
+/// triangle, the first half-edge that is cut.
+int next_cut_half_edge(const Surface& s, const std::vector<char>& cut, int h);
+
+/// The cage of a curve network: `corners` are mesh vertices, `paths` the layout edges (vertex paths
+/// from a corner to a corner through no other corner). Patches are the faces of the network.
+/// Fills layout->cage (positions of the corner vertices), corner_vertex, triangle_patch and
+/// edge_paths. Patch i is cage quad i, corner 0 of each quad is its lowest-numbered corner.
+/// Returns "" or what makes the network no quad layout (a face without 4 corners, ...).
+std::string extract_cage(const Surface& s, const std::vector<int>& corners, const std::vector<std::vector<int>>& paths,
+                         QuadLayout* layout);
+
+/// Maps every patch onto [0,1]^2: sides by arc length, interior by a Tutte embedding with positive
+/// (clamped cotangent) weights, which cannot fold on a convex boundary (Floater 2003).
+/// \pre extract_cage() succeeded and no mesh edge joins two boundary vertices of a patch without
+///      being a layout edge (split such chords first).
+void parameterize_patches(QuadLayout* layout);
+
+/// The boundary of cage quad q as a closed loop of mesh vertices starting at its corner 0, with
+/// the side (0..3) of each loop edge: loop[i] -> loop[i+1] lies on side side[i].
+void quad_boundary(const QuadLayout& layout, int q, std::vector<int>* loop, std::vector<int>* side);
+
+/// (u, v) of the point at fraction t along side k of the unit square, the sides running
+/// counter-clockwise from (0,0): (t,0), (1,t), (1-t,1), (0,1-t).
+UV side_point(int k, double t);
+
+/// Fills layout->quality.
+void measure_quality(QuadLayout* layout);
+
+}  // namespace quadcage::layout::detail

@@ -1,0 +1,664 @@
+#include "quadcage/layout/quad_layout.h"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <optional>
+
+#include "detail/curves.h"
+#include "detail/patches.h"
+#include "detail/surface.h"
+#include "quadcage/core/errors.h"
+#include "quadcage/core/validate.h"
+
+namespace quadcage::layout {
+namespace {
+
+using detail::Builder;
+using detail::neighbours_on;
+using detail::PathResult;
+using detail::PathSearch;
+using detail::sectors;
+using detail::Surface;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+using Say = std::function<void(const std::string&)>;
+
+// The layout curves, as indices into a Builder's curves (which follow every split), plus the
+// corners they carry.
+struct Network {
+    std::vector<int> corners;                  // mesh vertices
+    std::vector<std::pair<int, std::vector<int>>> closed;  // closed curve -> its corners (cut there)
+    std::vector<int> arcs;                     // open curves from a corner to a corner
+    std::vector<int> s_cycles;                 // Algorithm 1's S_i (g >= 2)
+};
+
+double path_length(const Mesh& m, const std::vector<int>& p) {
+    double l = 0;
+    for (size_t i = 0; i + 1 < p.size(); ++i) l += norm(m.points[p[i + 1]] - m.points[p[i]]);
+    return l;
+}
+
+int common_vertex(const Cycle& a, const Cycle& b) {
+    for (int v : a)
+        if (std::find(b.begin(), b.end(), v) != b.end()) return v;
+    return -1;
+}
+
+// Position along a closed curve of the vertex at `fraction` of its length, walking from index i0.
+int vertex_at_fraction(const Mesh& m, const Cycle& c, size_t i0, double fraction) {
+    const double total = cycle_length(m, c);
+    double run = 0;
+    const size_t n = c.size();
+    size_t best = i0;
+    double best_err = kInf;
+    for (size_t k = 0; k < n; ++k) {
+        const size_t i = (i0 + k) % n;
+        const double err = std::abs(run - fraction * total);
+        if (err < best_err) {
+            best_err = err;
+            best = i;
+        }
+        run += norm(m.points[c[(i + 1) % n]] - m.points[c[i]]);
+    }
+    return c[best];
+}
+
+// Triangle labels of the pieces cut out by the given closed curves.
+int label_pieces(const Builder& b, const std::vector<int>& curve_ids, std::vector<int>* label) {
+    std::vector<std::vector<int>> paths;
+    for (int id : curve_ids) {
+        std::vector<int> p = b.curves_[id];
+        p.push_back(p.front());
+        paths.push_back(std::move(p));
+    }
+    return detail::face_components(b.s_, detail::cut_half_edges(b.s_, paths), label);
+}
+
+// Triangle on side `side` of closed curve c: side 0 has the half-edge c[0] -> c[1], side 1 its twin.
+int triangle_beside(const Surface& s, const Cycle& c, int side) {
+    const int h = s.find_half_edge(c[0], c[1]);
+    QC_CHECK(h >= 0, "triangle_beside: curve leaves the mesh edges");
+    return (side == 0 ? h : s.twin(h)) / 3;
+}
+
+// The neighbours of x (on closed curve c) strictly inside the side of c whose triangles carry
+// `piece`, in rotation (counter-clockwise) order.
+std::vector<int> side_toward(const Surface& s, const Cycle& c, int x, const std::vector<int>& label, int piece) {
+    const auto [prev, next] = neighbours_on(c, x);
+    auto sec = sectors(s, x, prev, next);
+    if (label[s.find_half_edge(x, prev) / 3] == piece) return sec[0];
+    QC_CHECK(label[s.find_half_edge(x, next) / 3] == piece, "side_toward: neither side of the curve is in the piece");
+    return sec[1];
+}
+
+// Vertices that touch no triangle of `piece`.
+std::vector<char> outside_piece(const Surface& s, const std::vector<int>& label, int piece) {
+    std::vector<char> out(s.num_vertices(), 1);
+    for (int t = 0; t < static_cast<int>(label.size()); ++t)
+        if (label[t] == piece)
+            for (int v : s.mesh().triangles[t]) out[v] = 0;
+    return out;
+}
+
+std::vector<int> slice(const std::vector<int>& v, int from, int to) {  // [from, to)
+    from = std::max(from, 0);
+    to = std::min(to, static_cast<int>(v.size()));
+    return from < to ? std::vector<int>(v.begin() + from, v.begin() + to) : std::vector<int>{};
+}
+
+int index_in(const std::vector<int>& v, int x) {
+    const auto it = std::find(v.begin(), v.end(), x);
+    return it == v.end() ? -1 : static_cast<int>(it - v.begin());
+}
+
+// One side of a closed curve that bounds a piece: the curve and which side faces the piece.
+struct Hole {
+    int curve = -1;
+    int side = 0;
+};
+
+// Routes a closed ring through corners x[0..3], corner j on hole j, inside the piece beside the
+// holes, one open curve per arc (added to b). With face_right the ring's face lies to the right of
+// x0 -> x1 -> x2 -> x3 at every corner, else to the left; at each corner the face sector (between
+// the arriving and the leaving arc) is kept clear of the hole: design.md §2, "Routing a ring".
+// Returns the new curve ids, or nothing if some arc cannot be routed.
+std::optional<std::vector<int>> route_ring(Builder& b, const std::vector<int>& s_ids, const std::array<Hole, 4>& holes,
+                                           const std::array<int, 4>& x, bool face_right, double* length) {
+    std::vector<int> arcs;
+    std::vector<int> label;
+    for (int j = 0; j < 4; ++j) {
+        b.split_chords();
+        label_pieces(b, s_ids, &label);
+        const int piece = label[triangle_beside(b.s_, b.curves_[holes[0].curve], holes[0].side)];
+        const std::vector<char> block = b.blocked();
+        const std::vector<char> outside = outside_piece(b.s_, label, piece);
+        const auto cost = b.cost_near(block, &outside);
+        const int jn = (j + 1) % 4;
+        const std::vector<int> here = side_toward(b.s_, b.curves_[holes[j].curve], x[j], label, piece);
+        const std::vector<int> there = side_toward(b.s_, b.curves_[holes[jn].curve], x[jn], label, piece);
+        std::vector<int> leave = here, arrive = there;
+        if (j > 0) {  // the arc arriving at x[j] fixes on which side of it this one may leave
+            const Cycle& in = b.curves_[arcs.back()];
+            const int i = index_in(here, in[in.size() - 2]);
+            QC_CHECK(i >= 0, "route_ring: arriving arc not in the piece's sector");
+            leave = face_right ? slice(here, i + 1, static_cast<int>(here.size())) : slice(here, 0, i);
+        }
+        if (jn == 0) {  // closing at x[0]: arrive on the right side of the first arc's start
+            const int i = index_in(there, b.curves_[arcs.front()][1]);
+            QC_CHECK(i >= 0, "route_ring: first arc not in the piece's sector");
+            arrive = face_right ? slice(there, 0, i) : slice(there, i + 1, static_cast<int>(there.size()));
+        }
+        double cost_total = 0;
+        const std::vector<int> interior = b.sector_path(x[j], leave, x[jn], arrive, block, cost, &cost_total);
+        if (interior.empty()) { if (getenv("QC_DEBUG")) fprintf(stderr, "  arc %d fails: leave %zu arrive %zu (here %zu there %zu)\n", j, leave.size(), arrive.size(), here.size(), there.size()); return std::nullopt; }
+        Cycle arc{x[j]};
+        arc.insert(arc.end(), interior.begin(), interior.end());
+        arc.push_back(x[jn]);
+        *length += path_length(b.s_.mesh(), arc);
+        arcs.push_back(b.add_curve(arc, false));
+    }
+    return arcs;
+}
+
+// Distances inside `piece` from the vertices of closed curve `curve` (crossing no S-cycle), and
+// from them the distance of each vertex x of hole curve `to` (reached from the piece's side).
+std::vector<double> hole_distances(const Builder& b, const std::vector<int>& label, int piece, int from_curve,
+                                   const std::vector<char>& on_s) {
+    std::vector<char> block = outside_piece(b.s_, label, piece);
+    for (size_t v = 0; v < block.size(); ++v) block[v] = block[v] || on_s[v];
+    PathSearch q;
+    q.blocked = &block;
+    for (int v : b.curves_[from_curve]) q.sources.push_back({v, 0.0});
+    return detail::dijkstra(b.s_, q).distance;
+}
+
+double distance_from_side(const Builder& b, const std::vector<double>& field, const Cycle& hole, int x,
+                          const std::vector<int>& label, int piece) {
+    double best = kInf;
+    for (int w : side_toward(b.s_, hole, x, label, piece))
+        if (field[w] < kInf) best = std::min(best, field[w] + norm(b.s_.point(w) - b.s_.point(x)));
+    return best;
+}
+
+// Algorithm 1 (paper §4): 4g-4 cycles S_i, each crossing the orthogonal system once, on an arc of
+// a b-curve: one per arc of b1 and bg, two per arc of the middle b's. Returns their curve ids.
+std::vector<int> place_s_cycles(Builder& b, int g, const Say& say) {
+    struct Spot {
+        int curve;  // the b-curve
+        int u;      // crossing vertex
+    };
+    std::vector<Spot> spots;
+    for (int h = 1; h <= g; ++h) {
+        const int bi = 2 * h - 1;
+        const int per_arc = (h == 1 || h == g) ? 1 : 2;
+        // Room: every arc needs enough vertices for its u's, away from its ends and each other.
+        for (int guard = 0;; ++guard) {
+            const Cycle& c = b.curves_[bi];
+            const int p1 = common_vertex(b.curves_[bi - 1], c);
+            const size_t i1 = static_cast<size_t>(index_in(c, p1));
+            const int p2 = h < g ? common_vertex(c, b.curves_[bi + 1]) : vertex_at_fraction(b.s_.mesh(), c, i1, 0.5);
+            const size_t i2 = static_cast<size_t>(index_in(c, p2));
+            const size_t n = c.size();
+            const size_t arc1 = (i2 + n - i1) % n - 1, arc2 = (i1 + n - i2) % n - 1;
+            if (std::min(arc1, arc2) >= static_cast<size_t>(4 * per_arc + 3)) {
+                for (int arc = 0; arc < 2; ++arc) {
+                    const size_t start = arc == 0 ? i1 : i2, stop = arc == 0 ? i2 : i1;
+                    Cycle piece;  // the arc, ends included
+                    for (size_t i = start; i != stop; i = (i + 1) % n) piece.push_back(c[i]);
+                    piece.push_back(c[stop]);
+                    const double len = path_length(b.s_.mesh(), piece);
+                    std::vector<int> used;
+                    for (int k = 1; k <= per_arc; ++k) {
+                        const double want = len * k / (per_arc + 1);
+                        double run = 0, best = kInf;
+                        int pick = -1;
+                        for (size_t i = 1; i + 1 < piece.size(); ++i) {
+                            run += norm(b.s_.point(piece[i]) - b.s_.point(piece[i - 1]));
+                            if (i < 2 || i + 2 >= piece.size()) continue;  // keep off the crossings
+                            if (std::find(used.begin(), used.end(), piece[i]) != used.end()) continue;
+                            if (std::abs(run - want) < best) {
+                                best = std::abs(run - want);
+                                pick = piece[i];
+                            }
+                        }
+                        QC_CHECK(pick >= 0, "no room for an S-cycle on b" + std::to_string(h));
+                        used.push_back(pick);
+                        spots.push_back({bi, pick});
+                    }
+                }
+                break;
+            }
+            QC_CHECK(guard < 8, "b" + std::to_string(h) + ": arcs stay too short after refinement");
+            std::vector<std::pair<int, int>> edges;
+            for (size_t i = 0; i < n; ++i) edges.push_back({c[i], c[(i + 1) % n]});
+            b.split_curve_edges(edges);
+        }
+    }
+    std::vector<int> ids;
+    for (size_t k = 0; k < spots.size(); ++k) {
+        say("S-cycle " + std::to_string(k + 1) + " of " + std::to_string(spots.size()));
+        b.split_chords();
+        const std::vector<char> block = b.blocked();
+        const auto cost = b.cost_near(block);
+        const Cycle& bc = b.curves_[spots[k].curve];
+        const int u = spots[k].u;
+        const auto [p, n] = neighbours_on(bc, u);
+        const auto sec = sectors(b.s_, u, p, n);
+        const std::vector<int> path = b.sector_path(u, sec[0], u, sec[1], block, cost, nullptr);
+        QC_CHECK(!path.empty(), "no cycle S crosses b at vertex " + std::to_string(u) + " alone");
+        Cycle s{u};
+        s.insert(s.end(), path.begin(), path.end());
+        ids.push_back(b.add_curve(s));
+    }
+    return ids;
+}
+
+struct Pieces {
+    std::vector<std::vector<Hole>> holes;  // per piece: the S-cycles around it, facing it
+};
+
+Pieces find_pieces(const Builder& b, const std::vector<int>& s_ids, int g) {
+    std::vector<int> label;
+    const int count = label_pieces(b, s_ids, &label);
+    QC_CHECK(count == 3 * g - 3, "the S-cycles cut " + std::to_string(count) + " pieces, want 3g-3 = " +
+                                     std::to_string(3 * g - 3));
+    Pieces out;
+    out.holes.resize(count);
+    for (int id : s_ids)
+        for (int side = 0; side < 2; ++side)
+            out.holes[label[triangle_beside(b.s_, b.curves_[id], side)]].push_back({id, side});
+    int annuli = 0, shirts = 0;
+    for (const auto& h : out.holes) {
+        if (h.size() == 2) ++annuli;
+        else if (h.size() == 4) ++shirts;
+        else QC_CHECK(false, "a piece has " + std::to_string(h.size()) + " boundary cycles (want 2 or 4)");
+    }
+    QC_CHECK(annuli == 2 * g - 2 && shirts == g - 1, "pieces: " + std::to_string(annuli) + " handles and " +
+                                                         std::to_string(shirts) + " T-shirts");
+    for (int id : s_ids) {
+        const int l0 = label[triangle_beside(b.s_, b.curves_[id], 0)], l1 = label[triangle_beside(b.s_, b.curves_[id], 1)];
+        QC_CHECK(out.holes[l0].size() != out.holes[l1].size(), "an S-cycle does not separate a handle from a T-shirt");
+    }
+    return out;
+}
+
+// The T-shirt (paper, Fig. 7; design.md §2): 2 corners on each of its 4 holes, a bottom ring and
+// a top ring through them in one cyclic order of the holes. Tries the 3 cyclic orders in both
+// directions and keeps the shortest pair of rings. Adds the rings to b and returns, per hole, its
+// (bottom, top) corners.
+std::vector<std::pair<Hole, std::array<int, 2>>> route_tshirt(Builder& b, const std::vector<int>& s_ids,
+                                                               const std::vector<Hole>& holes, std::vector<int>* arcs) {
+    std::vector<int> label;
+    label_pieces(b, s_ids, &label);
+    const int piece = label[triangle_beside(b.s_, b.curves_[holes[0].curve], holes[0].side)];
+    std::vector<char> on_s(b.s_.num_vertices(), 0);
+    for (int id : s_ids)
+        for (int v : b.curves_[id]) on_s[v] = 1;
+    std::array<std::vector<double>, 4> field;
+    for (int k = 0; k < 4; ++k) field[k] = hole_distances(b, label, piece, holes[k].curve, on_s);
+    static const int kOrders[6][4] = {{0, 1, 2, 3}, {0, 3, 2, 1}, {0, 1, 3, 2}, {0, 2, 3, 1}, {0, 2, 1, 3}, {0, 3, 1, 2}};
+    double best = kInf;
+    std::optional<Builder> best_builder;
+    std::vector<std::pair<Hole, std::array<int, 2>>> best_corners;
+    std::vector<int> best_arcs;
+    for (const auto& order : kOrders) {
+        std::array<Hole, 4> ring_holes;
+        std::array<int, 4> bottom{}, top{};
+        for (int j = 0; j < 4; ++j) {
+            const int k = order[j], kp = order[(j + 3) % 4], kn = order[(j + 1) % 4];
+            ring_holes[j] = holes[k];
+            const Cycle& c = b.curves_[holes[k].curve];
+            double low = kInf;
+            size_t at = 0;
+            for (size_t i = 0; i < c.size(); ++i) {
+                const double d = distance_from_side(b, field[kp], c, c[i], label, piece) +
+                                 distance_from_side(b, field[kn], c, c[i], label, piece);
+                if (d < low) {
+                    low = d;
+                    at = i;
+                }
+            }
+            bottom[j] = c[at];
+            top[j] = vertex_at_fraction(b.s_.mesh(), c, at, 0.5);
+        }
+        Builder trial = b;
+        double length = 0;
+        const auto low_ring = route_ring(trial, s_ids, ring_holes, bottom, true, &length);
+        if (getenv("QC_DEBUG")) fprintf(stderr, "order %d%d%d%d low %d len %g\n", order[0], order[1], order[2], order[3], (int)low_ring.has_value(), length);
+        if (!low_ring || length >= best) continue;
+        const auto high_ring = route_ring(trial, s_ids, ring_holes, top, false, &length);
+        if (getenv("QC_DEBUG")) fprintf(stderr, "  high %d len %g\n", (int)high_ring.has_value(), length);
+        if (!high_ring || length >= best) continue;
+        best = length;
+        best_corners.clear();
+        for (int j = 0; j < 4; ++j) best_corners.push_back({ring_holes[j], {bottom[j], top[j]}});
+        best_arcs = *low_ring;
+        best_arcs.insert(best_arcs.end(), high_ring->begin(), high_ring->end());
+        best_builder.emplace(std::move(trial));
+    }
+    QC_CHECK(best_builder.has_value(), "no pair of rings could be routed in a T-shirt");
+    b = std::move(*best_builder);
+    arcs->insert(arcs->end(), best_arcs.begin(), best_arcs.end());
+    return best_corners;
+}
+
+// A handle (annulus between holes A and B, 2 corners each) becomes 2 quads: two arcs across it.
+// Both pairings (twists) are tried; the shorter is kept.
+void route_handle(Builder& b, const std::vector<int>& s_ids, const Hole& A, const std::array<int, 2>& a, const Hole& B,
+                  const std::array<int, 2>& c, std::vector<int>* arcs) {
+    double best = kInf;
+    std::optional<Builder> best_builder;
+    std::vector<int> best_arcs;
+    for (int twist = 0; twist < 2; ++twist) {
+        Builder trial = b;
+        double length = 0;
+        std::vector<int> made;
+        for (int k = 0; k < 2; ++k) {
+            const int from = a[k], to = c[(k + twist) % 2];
+            trial.split_chords();
+            std::vector<int> label;
+            label_pieces(trial, s_ids, &label);
+            const int piece = label[triangle_beside(trial.s_, trial.curves_[A.curve], A.side)];
+            const std::vector<char> block = trial.blocked();
+            const std::vector<char> outside = outside_piece(trial.s_, label, piece);
+            const auto cost = trial.cost_near(block, &outside);
+            const auto leave = side_toward(trial.s_, trial.curves_[A.curve], from, label, piece);
+            const auto arrive = side_toward(trial.s_, trial.curves_[B.curve], to, label, piece);
+            const std::vector<int> interior = trial.sector_path(from, leave, to, arrive, block, cost, nullptr);
+            if (interior.empty()) break;
+            Cycle arc{from};
+            arc.insert(arc.end(), interior.begin(), interior.end());
+            arc.push_back(to);
+            length += path_length(trial.s_.mesh(), arc);
+            made.push_back(trial.add_curve(arc, false));
+        }
+        if (made.size() != 2 || length >= best) continue;
+        best = length;
+        best_arcs = made;
+        best_builder.emplace(std::move(trial));
+    }
+    QC_CHECK(best_builder.has_value(), "no pair of arcs could be routed across a handle");
+    b = std::move(*best_builder);
+    arcs->insert(arcs->end(), best_arcs.begin(), best_arcs.end());
+}
+
+// Genus >= 2: Algorithm 1, then handles (2 quads) and T-shirts (6 quads).
+Network network_of_handles_and_tshirts(Builder& b, int g, const Say& say) {
+    Network net;
+    net.s_cycles = place_s_cycles(b, g, say);
+    // From here on the orthogonal system is scaffolding: layout curves may cross it.
+    for (int i = 0; i < 2 * g; ++i) b.obstacle_[i] = 0;
+    const Pieces pieces = find_pieces(b, net.s_cycles, g);
+    std::vector<std::array<int, 2>> corners_on(b.curves_.size(), {-1, -1});
+    int shirt = 0;
+    for (const auto& holes : pieces.holes) {
+        if (holes.size() != 4) continue;
+        say("T-shirt " + std::to_string(++shirt) + " of " + std::to_string(g - 1));
+        for (const auto& [hole, cs] : route_tshirt(b, net.s_cycles, holes, &net.arcs)) {
+            corners_on[hole.curve] = cs;
+            net.corners.push_back(cs[0]);
+            net.corners.push_back(cs[1]);
+        }
+    }
+    int handle = 0;
+    for (const auto& holes : pieces.holes) {
+        if (holes.size() != 2) continue;
+        say("handle " + std::to_string(++handle) + " of " + std::to_string(2 * g - 2));
+        route_handle(b, net.s_cycles, holes[0], corners_on[holes[0].curve], holes[1], corners_on[holes[1].curve],
+                     &net.arcs);
+    }
+    for (int id : net.s_cycles) net.closed.push_back({id, {corners_on[id][0], corners_on[id][1]}});
+    return net;
+}
+
+// Genus 1 (Remark 1): two disjoint meridians (a1 and a parallel copy) and two disjoint longitudes
+// (b1 and a parallel copy); each meridian crosses each longitude once: 4 corners of degree 4.
+Network network_of_torus(Builder& b, const Say& say) {
+    const int a = 0, bb = 1;
+    for (int guard = 0; b.curves_[a].size() < 8 || b.curves_[bb].size() < 8; ++guard) {
+        QC_CHECK(guard < 8, "torus: cycles stay too short after refinement");
+        for (int id : {a, bb}) {
+            const Cycle& c = b.curves_[id];
+            std::vector<std::pair<int, int>> edges;
+            for (size_t i = 0; i < c.size(); ++i) edges.push_back({c[i], c[(i + 1) % c.size()]});
+            b.split_curve_edges(edges);
+        }
+    }
+    const int v = common_vertex(b.curves_[a], b.curves_[bb]);
+    say("second meridian");
+    // Second meridian: crosses b1 once, at the vertex half-way round from v.
+    const int u = vertex_at_fraction(b.s_.mesh(), b.curves_[bb], static_cast<size_t>(index_in(b.curves_[bb], v)), 0.5);
+    int alpha = -1;
+    {
+        b.split_chords();
+        const std::vector<char> block = b.blocked();
+        const auto cost = b.cost_near(block);
+        const auto [p, n] = neighbours_on(b.curves_[bb], u);
+        const auto sec = sectors(b.s_, u, p, n);
+        const std::vector<int> path = b.sector_path(u, sec[0], u, sec[1], block, cost, nullptr);
+        QC_CHECK(!path.empty(), "torus: no second meridian");
+        Cycle s{u};
+        s.insert(s.end(), path.begin(), path.end());
+        alpha = b.add_curve(s);
+    }
+    say("second longitude");
+    // Second longitude: from w (half-way round a1 from v) across one annulus to a vertex y of the
+    // second meridian, then back across the other annulus; both sides tried.
+    const int w = vertex_at_fraction(b.s_.mesh(), b.curves_[a], static_cast<size_t>(index_in(b.curves_[a], v)), 0.5);
+    double best = kInf;
+    std::optional<Builder> best_builder;
+    int best_beta = -1, best_y = -1;
+    for (int side = 0; side < 2; ++side) {
+        Builder t = b;
+        t.split_chords();
+        const std::vector<char> block = t.blocked();
+        const auto cost = t.cost_near(block);
+        const auto [pw, nw] = neighbours_on(t.curves_[a], w);
+        const auto sec_w = sectors(t.s_, w, pw, nw);
+        PathSearch q;
+        q.blocked = &block;
+        q.cost = cost;
+        for (int x : sec_w[side])
+            if (!block[x]) q.sources.push_back({x, t.edge_cost(cost, w, x)});
+        const Cycle& al = t.curves_[alpha];
+        for (int y : al) {
+            if (y == u) continue;
+            for (int x : t.s_.ring(y))
+                if (!block[x]) q.targets.push_back({x, t.edge_cost(cost, x, y)});
+        }
+        if (q.sources.empty() || q.targets.empty()) continue;
+        const PathResult r = detail::dijkstra(t.s_, q);
+        if (r.target < 0) continue;
+        const std::vector<int> first = r.path_to(t.s_, r.target);
+        int y = -1;
+        double yc = kInf;
+        for (int cand : t.s_.ring(r.target))
+            if (cand != u && index_in(al, cand) >= 0 && t.edge_cost(cost, r.target, cand) < yc) {
+                yc = t.edge_cost(cost, r.target, cand);
+                y = cand;
+            }
+        QC_CHECK(y >= 0, "torus: second longitude lost its end");
+        Cycle half{w};
+        half.insert(half.end(), first.begin(), first.end());
+        half.push_back(y);
+        const int half_id = t.add_curve(half, false);
+        t.split_chords();
+        const std::vector<char> block2 = t.blocked();
+        const auto cost2 = t.cost_near(block2);
+        const auto [py, ny] = neighbours_on(t.curves_[alpha], y);
+        const auto sec_y = sectors(t.s_, y, py, ny);
+        const int arrived = t.curves_[half_id][t.curves_[half_id].size() - 2];
+        const int other = index_in(sec_y[0], arrived) >= 0 ? 1 : 0;
+        const auto [pw2, nw2] = neighbours_on(t.curves_[a], w);
+        const auto sec_w2 = sectors(t.s_, w, pw2, nw2);
+        const std::vector<int> second = t.sector_path(y, sec_y[other], w, sec_w2[1 - side], block2, cost2, nullptr);
+        if (second.empty()) continue;
+        Cycle beta = t.curves_[half_id];
+        beta.insert(beta.end(), second.begin(), second.end());
+        t.obstacle_[half_id] = 0;
+        const double len = cycle_length(t.s_.mesh(), beta);
+        if (len >= best) continue;
+        best = len;
+        best_y = y;
+        best_beta = t.add_curve(beta);
+        best_builder.emplace(std::move(t));
+    }
+    QC_CHECK(best_builder.has_value(), "torus: no second longitude");
+    b = std::move(*best_builder);
+    Network net;
+    net.corners = {v, u, w, best_y};
+    net.closed = {{a, {v, w}}, {bb, {v, u}}, {alpha, {u, best_y}}, {best_beta, {w, best_y}}};
+    return net;
+}
+
+// Genus 0: a cube. Corners at the extremes of the 8 octant directions of the principal frame;
+// a bottom ring, a top ring and 4 vertical arcs.
+Network network_of_cube(Builder& b, const Say& say) {
+    const Mesh& m = b.s_.mesh();
+    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+    for (const Vec3& p : m.points) mean += Eigen::Vector3d(p.x, p.y, p.z);
+    mean /= static_cast<double>(m.num_vertices());
+    Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+    for (const Vec3& p : m.points) {
+        const Eigen::Vector3d d = Eigen::Vector3d(p.x, p.y, p.z) - mean;
+        cov += d * d.transpose();
+    }
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
+    Eigen::Matrix3d axes = eig.eigenvectors();  // columns, ascending eigenvalues
+    Eigen::Vector3d e1 = axes.col(2), e2 = axes.col(1);
+    Eigen::Vector3d e3 = e1.cross(e2);
+    const Eigen::Vector3d scale(std::sqrt(std::max(eig.eigenvalues()(2), 1e-300)), std::sqrt(std::max(eig.eigenvalues()(1), 1e-300)),
+                                std::sqrt(std::max(eig.eigenvalues()(0), 1e-300)));
+    // Octant (sx, sy, sz) -> corner index: bottom ring (sz < 0) j = 0..3, top ring 4 + j, with j
+    // running (-,-), (+,-), (+,+), (-,+): counter-clockwise about e3.
+    const int sx[4] = {-1, 1, 1, -1}, sy[4] = {-1, -1, 1, 1};
+    std::array<int, 8> corner{};
+    std::vector<char> taken(m.num_vertices(), 0);
+    for (int k = 0; k < 8; ++k) {
+        const int j = k % 4;
+        const double sz = k < 4 ? -1 : 1;
+        double best = -kInf;
+        int pick = -1;
+        for (int v = 0; v < m.num_vertices(); ++v) {
+            if (taken[v]) continue;
+            const Eigen::Vector3d d = Eigen::Vector3d(m.points[v].x, m.points[v].y, m.points[v].z) - mean;
+            const double score = sx[j] * d.dot(e1) / scale(0) + sy[j] * d.dot(e2) / scale(1) + sz * d.dot(e3) / scale(2);
+            if (score > best) {
+                best = score;
+                pick = v;
+            }
+        }
+        corner[k] = pick;
+        taken[pick] = 1;
+    }
+    Network net;
+    net.corners.assign(corner.begin(), corner.end());
+    // Arcs in order: bottom ring, top ring, verticals; each avoids the earlier ones.
+    std::vector<std::pair<int, int>> plan;
+    for (int j = 0; j < 4; ++j) plan.push_back({corner[j], corner[(j + 1) % 4]});
+    for (int j = 0; j < 4; ++j) plan.push_back({corner[4 + j], corner[4 + (j + 1) % 4]});
+    for (int j = 0; j < 4; ++j) plan.push_back({corner[j], corner[4 + j]});
+    std::vector<char> is_corner(m.num_vertices(), 0);
+    for (int c : corner) is_corner[c] = 1;
+    say("cube edges");
+    for (const auto& [from, to] : plan) {
+        b.split_chords();
+        std::vector<char> block = b.blocked();
+        for (size_t v = 0; v < is_corner.size(); ++v) block[v] = block[v] || is_corner[v];
+        const auto cost = b.cost_near(block);
+        const std::vector<int> leave = b.s_.ring(from), arrive = b.s_.ring(to);
+        const std::vector<int> interior = b.sector_path(from, leave, to, arrive, block, cost, nullptr);
+        QC_CHECK(!interior.empty(), "cube: an edge could not be routed");
+        Cycle arc{from};
+        arc.insert(arc.end(), interior.begin(), interior.end());
+        arc.push_back(to);
+        net.arcs.push_back(b.add_curve(arc, false));
+    }
+    return net;
+}
+
+}  // namespace
+
+std::string QuadLayoutOptions::validate() const { return cycles.validate(); }
+
+QuadLayout build_quad_layout(const Mesh& input, const QuadLayoutOptions& options) {
+    if (const std::string e = options.validate(); !e.empty()) throw InvalidInput("quad layout options: " + e);
+    const Say say = [&options](const std::string& m) {
+        if (options.progress) options.progress(m);
+    };
+    auto clock = [start = std::chrono::steady_clock::now()]() {
+        return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    };
+    OrthogonalSystemOptions cycle_options = options.cycles;
+    cycle_options.progress = options.progress;
+    // Validates the input (throws InvalidInput) and builds the cycles (none for a sphere).
+    OrthogonalSystem system = build_orthogonal_system(input, cycle_options);
+    const int g = system.genus;
+
+    QuadLayout out;
+    out.input_vertices = input.num_vertices();
+    out.genus = g;
+    Builder b(system.mesh, cycle_options);
+    // Small meshes get room first: 1-to-4 splits (input vertices stay, new ones at edge midpoints).
+    while (b.s_.num_vertices() < 400 + 50 * g) {
+        std::vector<std::pair<int, int>> edges;
+        for (int h = 0; h < b.s_.num_half_edges(); ++h)
+            if (b.s_.from(h) < b.s_.to(h)) edges.push_back({b.s_.from(h), b.s_.to(h)});
+        for (const Cycle& c : system.cycles) b.add_curve(c);  // keep the cycles on the refined mesh
+        b.split_curve_edges(edges);
+        for (size_t i = 0; i < system.cycles.size(); ++i) system.cycles[i] = b.curves_[i];
+        b.curves_.clear();
+        b.obstacle_.clear();
+        b.closed_.clear();
+    }
+    for (const Cycle& c : system.cycles) b.add_curve(c);
+    const double t_cycles = clock();
+
+    Network net;
+    if (g >= 2) net = network_of_handles_and_tshirts(b, g, say);
+    else if (g == 1) net = network_of_torus(b, say);
+    else net = network_of_cube(b, say);
+
+    // Room for the patch maps: no mesh edge may join two boundary vertices of a patch without
+    // being a layout edge. The orthogonal system is no obstacle any more.
+    say("patches");
+    std::vector<char> layout_curve(b.curves_.size(), 0);
+    for (const auto& [id, cs] : net.closed) layout_curve[id] = 1;
+    for (int id : net.arcs) layout_curve[id] = 1;
+    for (size_t c = 0; c < b.curves_.size(); ++c) b.obstacle_[c] = layout_curve[c];
+    b.split_chords();
+
+    std::vector<std::vector<int>> paths;
+    for (const auto& [id, cs] : net.closed) {
+        Cycle c = b.curves_[id];
+        const int i0 = index_in(c, cs[0]);
+        QC_CHECK(i0 >= 0 && index_in(c, cs[1]) >= 0, "a layout cycle lost its corners");
+        std::rotate(c.begin(), c.begin() + i0, c.end());
+        const int i1 = index_in(c, cs[1]);
+        paths.emplace_back(c.begin(), c.begin() + i1 + 1);
+        std::vector<int> rest(c.begin() + i1, c.end());
+        rest.push_back(c[0]);
+        paths.push_back(rest);
+    }
+    for (int id : net.arcs) paths.push_back(b.curves_[id]);
+
+    out.mesh = b.s_.mesh();
+    for (int i = 0; i < 2 * g; ++i) out.orthogonal_system.push_back(b.curves_[i]);
+    for (int id : net.s_cycles) out.s_cycles.push_back(b.curves_[id]);
+    const double t_curves = clock();
+    const std::string problem = detail::extract_cage(b.s_, net.corners, paths, &out);
+    QC_CHECK(problem.empty(), "the layout curves do not form a quad layout: " + problem);
+    detail::parameterize_patches(&out);
+    const double t_param = clock();
+    say("verifying");
+    const std::string check = verify_quad_layout(out);
+    QC_CHECK(check.empty(), "the quad layout fails its own check: " + check);
+    detail::measure_quality(&out);
+    out.seconds = {t_cycles, t_curves - t_cycles, t_param - t_curves, clock() - t_param};
+    return out;
+}
+
+}  // namespace quadcage::layout
