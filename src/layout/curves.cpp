@@ -89,6 +89,55 @@ int Builder::split_chords(const std::vector<Cycle>& extra) {
     return static_cast<int>(chords.size());
 }
 
+int Builder::split_chords_around(const std::vector<char>& reached) {
+    const std::vector<char> on = blocked();
+    std::unordered_set<std::uint64_t> curve_edges;
+    for (size_t c = 0; c < curves_.size(); ++c) {
+        if (!obstacle_[c]) continue;
+        const Cycle& cv = curves_[c];
+        const size_t n = cv.size();
+        for (size_t i = 0; i + (closed_[c] ? 0 : 1) < n; ++i) curve_edges.insert(edge_key(cv[i], cv[(i + 1) % n]));
+    }
+    auto is_chord = [&](int h) {
+        const int a = s_.from(h), b = s_.to(h);
+        return on[a] && on[b] && !curve_edges.count(edge_key(a, b));
+    };
+    // Flood from the triangles the search touched, across chords, through "wall" triangles (all
+    // three corners on curves): a corridor between two curves that run side by side is one strip
+    // of wall triangles, opened in one go.
+    const int nt = s_.num_half_edges() / 3;
+    std::vector<char> seen(nt, 0);
+    std::vector<int> queue;
+    for (int t = 0; t < nt; ++t) {
+        const Triangle& tri = s_.mesh().triangles[t];
+        if (reached[tri[0]] || reached[tri[1]] || reached[tri[2]]) {
+            seen[t] = 1;
+            queue.push_back(t);
+        }
+    }
+    std::vector<std::pair<int, int>> chords;
+    std::unordered_set<std::uint64_t> chosen;
+    for (size_t i = 0; i < queue.size(); ++i) {
+        const int t = queue[i];
+        for (int k = 0; k < 3; ++k) {
+            const int h = 3 * t + k;
+            if (!is_chord(h)) continue;
+            const int a = s_.from(h), b = s_.to(h);
+            if (chosen.insert(edge_key(a, b)).second) chords.push_back({std::min(a, b), std::max(a, b)});
+            const int o = s_.twin(h) / 3;
+            const Triangle& ot = s_.mesh().triangles[o];
+            if (!seen[o] && on[ot[0]] && on[ot[1]] && on[ot[2]]) {
+                seen[o] = 1;
+                queue.push_back(o);
+            }
+        }
+    }
+    if (chords.empty()) return 0;
+    std::sort(chords.begin(), chords.end());
+    split_curve_edges(chords);
+    return static_cast<int>(chords.size());
+}
+
 void Builder::split_curve_edges(const std::vector<std::pair<int, int>>& edges) {
     if (edges.empty()) return;
     const std::vector<int> mids = s_.split_edges(edges);
@@ -103,19 +152,29 @@ void Builder::split_curve_edges(const std::vector<std::pair<int, int>>& edges) {
     splits_ += static_cast<int>(edges.size());
 }
 
-std::function<double(int)> Builder::cost_near(const std::vector<char>& block, const std::vector<char>* outside) const {
-    if (o_.repulsion <= 0) return {};
+std::function<double(int)> Builder::cost_near(const std::vector<char>& block, const std::vector<char>* outside,
+                                              double adjacency) const {
+    if (o_.repulsion <= 0 && adjacency <= 0) return {};
     PathSearch q;
     for (int v = 0; v < s_.num_vertices(); ++v)
         if (block[v] && !(outside && (*outside)[v])) q.sources.push_back({v, 0.0});
     q.blocked = outside;
     q.max_distance = 8 * sigma_;  // the penalty is below 3e-3 beyond
     auto field = std::make_shared<std::vector<double>>(dijkstra(s_, q).distance);
+    auto beside = std::make_shared<std::vector<char>>();
+    if (adjacency > 0) {
+        beside->assign(s_.num_vertices(), 0);
+        for (const auto& [v, c] : q.sources)
+            for (int w : s_.ring(v))
+                if (!block[w]) (*beside)[w] = 1;
+    }
     const Surface* s = &s_;
     const double a = o_.repulsion, sigma = sigma_;
-    return [s, field, a, sigma](int h) {
+    return [s, field, beside, a, sigma, adjacency](int h) {
         const double d = 0.5 * ((*field)[s->from(h)] + (*field)[s->to(h)]);
-        return s->length(h) * (1.0 + a * std::exp(-d / sigma));
+        double f = 1.0 + a * std::exp(-d / sigma);
+        if (!beside->empty()) f += 0.5 * adjacency * ((*beside)[s->from(h)] + (*beside)[s->to(h)]);
+        return s->length(h) * f;
     };
 }
 
@@ -126,7 +185,8 @@ double Builder::edge_cost(const std::function<double(int)>& cost, int a, int b) 
 
 std::vector<int> Builder::sector_path(int x, const std::vector<int>& from_sector, int y,
                                       const std::vector<int>& to_sector, const std::vector<char>& block,
-                                      const std::function<double(int)>& cost, double* total) const {
+                                      const std::function<double(int)>& cost, double* total,
+                                      std::vector<char>* reached) const {
     PathSearch q;
     q.blocked = &block;
     q.cost = cost;
@@ -134,9 +194,18 @@ std::vector<int> Builder::sector_path(int x, const std::vector<int>& from_sector
         if (!block[n]) q.sources.push_back({n, edge_cost(cost, x, n)});
     for (int n : to_sector)
         if (!block[n]) q.targets.push_back({n, edge_cost(cost, n, y)});
+    if (reached) {  // on failure: what the search settled, and its two ends (their walls count too)
+        reached->assign(s_.num_vertices(), 0);
+        (*reached)[x] = (*reached)[y] = 1;
+    }
     if (q.sources.empty() || q.targets.empty()) return {};
     const PathResult r = dijkstra(s_, q);
-    if (r.target < 0) return {};
+    if (r.target < 0) {
+        if (reached)
+            for (int v = 0; v < s_.num_vertices(); ++v)
+                if (r.distance[v] < std::numeric_limits<double>::infinity()) (*reached)[v] = 1;
+        return {};
+    }
     if (total) *total = r.target_cost;
     return r.path_to(s_, r.target);
 }

@@ -392,14 +392,15 @@ void measure_quality(QuadLayout* layout) {
         const double fro = j11 * j11 + j12 * j12 + j21 * j21 + j22 * j22;
         const double det = std::abs(j11 * j22 - j12 * j21);
         const double disc = std::sqrt(std::max(0.0, fro * fro - 4 * det * det));
-        const double s1 = std::sqrt(0.5 * (fro + disc)), s2 = std::sqrt(std::max(0.0, 0.5 * (fro - disc)));
+        const double s1 = std::sqrt(0.5 * (fro + disc));
+        const double s2 = s1 > 0 ? det / s1 : 0.0;  // s1 * s2 = |det J|; stabler than the difference
         const double d = s2 > 0 ? s1 / s2 : std::numeric_limits<double>::infinity();
         const double w = 0.5 * a3;
-        weighted += w * d;
+        weighted += w * std::log(d);  // geometric mean: one sliver must not swamp the figure
         weight += w;
         qual.distortion_max = std::max(qual.distortion_max, d);
     }
-    qual.distortion_mean = weight > 0 ? weighted / weight : 0;
+    qual.distortion_mean = weight > 0 ? std::exp(weighted / weight) : 0;
 }
 
 }  // namespace quadcage::layout::detail

@@ -23,6 +23,10 @@ using detail::PathSearch;
 using detail::sectors;
 using detail::Surface;
 constexpr double kInf = std::numeric_limits<double>::infinity();
+// Extra cost (in edge lengths) of walking next to an existing curve; see Builder::cost_near().
+constexpr double kAdjacency = 4.0;
+// Times a search may open the walls around it (split_chords_around) before it gives up.
+constexpr int kRoomAttempts = 12;
 
 using Say = std::function<void(const std::string&)>;
 
@@ -129,13 +133,16 @@ std::optional<std::vector<int>> route_ring(Builder& b, const std::vector<int>& s
                                            const std::array<int, 4>& x, bool face_right, double* length) {
     std::vector<int> arcs;
     std::vector<int> label;
-    for (int j = 0; j < 4; ++j) {
-        b.split_chords();
+    std::vector<char> reached;
+    for (int j = 0, attempt = 0; j < 4; ++attempt) {
+        // Room on demand: chords are split only around a search that found no way (splitting all
+        // chords before every search lets each new curve hug the last: the mesh grows several-fold).
+        if (attempt > 0 && (attempt > kRoomAttempts || b.open_room(reached) == 0)) return std::nullopt;
         label_pieces(b, s_ids, &label);
         const int piece = label[triangle_beside(b.s_, b.curves_[holes[0].curve], holes[0].side)];
         const std::vector<char> block = b.blocked();
         const std::vector<char> outside = outside_piece(b.s_, label, piece);
-        const auto cost = b.cost_near(block, &outside);
+        const auto cost = b.cost_near(block, &outside, kAdjacency);
         const int jn = (j + 1) % 4;
         const std::vector<int> here = side_toward(b.s_, b.curves_[holes[j].curve], x[j], label, piece);
         const std::vector<int> there = side_toward(b.s_, b.curves_[holes[jn].curve], x[jn], label, piece);
@@ -152,13 +159,15 @@ std::optional<std::vector<int>> route_ring(Builder& b, const std::vector<int>& s
             arrive = face_right ? slice(there, 0, i) : slice(there, i + 1, static_cast<int>(there.size()));
         }
         double cost_total = 0;
-        const std::vector<int> interior = b.sector_path(x[j], leave, x[jn], arrive, block, cost, &cost_total);
-        if (interior.empty()) { if (getenv("QC_DEBUG")) fprintf(stderr, "  arc %d fails: leave %zu arrive %zu (here %zu there %zu)\n", j, leave.size(), arrive.size(), here.size(), there.size()); return std::nullopt; }
+        const std::vector<int> interior = b.sector_path(x[j], leave, x[jn], arrive, block, cost, &cost_total, &reached);
+        if (interior.empty()) continue;
         Cycle arc{x[j]};
         arc.insert(arc.end(), interior.begin(), interior.end());
         arc.push_back(x[jn]);
         *length += path_length(b.s_.mesh(), arc);
         arcs.push_back(b.add_curve(arc, false));
+        ++j;
+        attempt = -1;
     }
     return arcs;
 }
@@ -240,14 +249,18 @@ std::vector<int> place_s_cycles(Builder& b, int g, const Say& say) {
     std::vector<int> ids;
     for (size_t k = 0; k < spots.size(); ++k) {
         say("S-cycle " + std::to_string(k + 1) + " of " + std::to_string(spots.size()));
-        b.split_chords();
-        const std::vector<char> block = b.blocked();
-        const auto cost = b.cost_near(block);
-        const Cycle& bc = b.curves_[spots[k].curve];
+        std::vector<int> path;
+        std::vector<char> reached;
+        for (int attempt = 0; attempt <= kRoomAttempts && path.empty(); ++attempt) {
+            if (attempt > 0 && b.open_room(reached) == 0) break;  // room on demand, as in route_ring()
+            const std::vector<char> block = b.blocked();
+            const auto cost = b.cost_near(block, nullptr, kAdjacency);
+            const int u = spots[k].u;
+            const auto [p, n] = neighbours_on(b.curves_[spots[k].curve], u);
+            const auto sec = sectors(b.s_, u, p, n);
+            path = b.sector_path(u, sec[0], u, sec[1], block, cost, nullptr, &reached);
+        }
         const int u = spots[k].u;
-        const auto [p, n] = neighbours_on(bc, u);
-        const auto sec = sectors(b.s_, u, p, n);
-        const std::vector<int> path = b.sector_path(u, sec[0], u, sec[1], block, cost, nullptr);
         QC_CHECK(!path.empty(), "no cycle S crosses b at vertex " + std::to_string(u) + " alone");
         Cycle s{u};
         s.insert(s.end(), path.begin(), path.end());
@@ -299,17 +312,20 @@ std::vector<std::pair<Hole, std::array<int, 2>>> route_tshirt(Builder& b, const 
         for (int v : b.curves_[id]) on_s[v] = 1;
     std::array<std::vector<double>, 4> field;
     for (int k = 0; k < 4; ++k) field[k] = hole_distances(b, label, piece, holes[k].curve, on_s);
+    // The 3 cyclic orders of 4 holes, each in both directions (entries 2i and 2i+1).
     static const int kOrders[6][4] = {{0, 1, 2, 3}, {0, 3, 2, 1}, {0, 1, 3, 2}, {0, 2, 3, 1}, {0, 2, 1, 3}, {0, 3, 1, 2}};
-    double best = kInf;
-    std::optional<Builder> best_builder;
-    std::vector<std::pair<Hole, std::array<int, 2>>> best_corners;
-    std::vector<int> best_arcs;
-    for (const auto& order : kOrders) {
-        std::array<Hole, 4> ring_holes;
+    struct Plan {
+        std::array<Hole, 4> holes;
         std::array<int, 4> bottom{}, top{};
+        double estimate = 0;  // both rings' length, from the hole distance fields
+    };
+    std::array<Plan, 6> plans;
+    for (int o = 0; o < 6; ++o) {
+        const auto& order = kOrders[o];
+        Plan& plan = plans[o];
         for (int j = 0; j < 4; ++j) {
             const int k = order[j], kp = order[(j + 3) % 4], kn = order[(j + 1) % 4];
-            ring_holes[j] = holes[k];
+            plan.holes[j] = holes[k];
             const Cycle& c = b.curves_[holes[k].curve];
             double low = kInf;
             size_t at = 0;
@@ -321,23 +337,37 @@ std::vector<std::pair<Hole, std::array<int, 2>>> route_tshirt(Builder& b, const 
                     at = i;
                 }
             }
-            bottom[j] = c[at];
-            top[j] = vertex_at_fraction(b.s_.mesh(), c, at, 0.5);
+            plan.bottom[j] = c[at];
+            plan.top[j] = vertex_at_fraction(b.s_.mesh(), c, at, 0.5);
+            plan.estimate += 0.5 * low + distance_from_side(b, field[kn], c, plan.top[j], label, piece);
         }
-        Builder trial = b;
-        double length = 0;
-        const auto low_ring = route_ring(trial, s_ids, ring_holes, bottom, true, &length);
-        if (getenv("QC_DEBUG")) fprintf(stderr, "order %d%d%d%d low %d len %g\n", order[0], order[1], order[2], order[3], (int)low_ring.has_value(), length);
-        if (!low_ring || length >= best) continue;
-        const auto high_ring = route_ring(trial, s_ids, ring_holes, top, false, &length);
-        if (getenv("QC_DEBUG")) fprintf(stderr, "  high %d len %g\n", (int)high_ring.has_value(), length);
-        if (!high_ring || length >= best) continue;
-        best = length;
-        best_corners.clear();
-        for (int j = 0; j < 4; ++j) best_corners.push_back({ring_holes[j], {bottom[j], top[j]}});
-        best_arcs = *low_ring;
-        best_arcs.insert(best_arcs.end(), high_ring->begin(), high_ring->end());
-        best_builder.emplace(std::move(trial));
+    }
+    // Route the cyclic orders from the most promising estimate on, both directions each; stop at
+    // the first order that gives a pair of rings (each routing is a handful of searches).
+    std::array<int, 3> cyclic{0, 1, 2};
+    std::stable_sort(cyclic.begin(), cyclic.end(),
+                     [&](int x, int y) { return plans[2 * x].estimate < plans[2 * y].estimate; });
+    double best = kInf;
+    std::optional<Builder> best_builder;
+    std::vector<std::pair<Hole, std::array<int, 2>>> best_corners;
+    std::vector<int> best_arcs;
+    for (int cyc : cyclic) {
+        for (int o = 2 * cyc; o < 2 * cyc + 2; ++o) {
+            const Plan& plan = plans[o];
+            Builder trial = b;
+            double length = 0;
+            const auto low_ring = route_ring(trial, s_ids, plan.holes, plan.bottom, true, &length);
+            if (!low_ring || length >= best) continue;
+            const auto high_ring = route_ring(trial, s_ids, plan.holes, plan.top, false, &length);
+            if (!high_ring || length >= best) continue;
+            best = length;
+            best_corners.clear();
+            for (int j = 0; j < 4; ++j) best_corners.push_back({plan.holes[j], {plan.bottom[j], plan.top[j]}});
+            best_arcs = *low_ring;
+            best_arcs.insert(best_arcs.end(), high_ring->begin(), high_ring->end());
+            best_builder.emplace(std::move(trial));
+        }
+        if (best_builder) break;
     }
     QC_CHECK(best_builder.has_value(), "no pair of rings could be routed in a T-shirt");
     b = std::move(*best_builder);
@@ -356,24 +386,27 @@ void route_handle(Builder& b, const std::vector<int>& s_ids, const Hole& A, cons
         Builder trial = b;
         double length = 0;
         std::vector<int> made;
-        for (int k = 0; k < 2; ++k) {
+        std::vector<char> reached;
+        for (int k = 0, attempt = 0; k < 2 && attempt <= kRoomAttempts; ++attempt) {
             const int from = a[k], to = c[(k + twist) % 2];
-            trial.split_chords();
+            if (attempt > 0 && trial.open_room(reached) == 0) break;  // room on demand, as in route_ring()
             std::vector<int> label;
             label_pieces(trial, s_ids, &label);
             const int piece = label[triangle_beside(trial.s_, trial.curves_[A.curve], A.side)];
             const std::vector<char> block = trial.blocked();
             const std::vector<char> outside = outside_piece(trial.s_, label, piece);
-            const auto cost = trial.cost_near(block, &outside);
+            const auto cost = trial.cost_near(block, &outside, kAdjacency);
             const auto leave = side_toward(trial.s_, trial.curves_[A.curve], from, label, piece);
             const auto arrive = side_toward(trial.s_, trial.curves_[B.curve], to, label, piece);
-            const std::vector<int> interior = trial.sector_path(from, leave, to, arrive, block, cost, nullptr);
-            if (interior.empty()) break;
+            const std::vector<int> interior = trial.sector_path(from, leave, to, arrive, block, cost, nullptr, &reached);
+            if (interior.empty()) continue;
             Cycle arc{from};
             arc.insert(arc.end(), interior.begin(), interior.end());
             arc.push_back(to);
             length += path_length(trial.s_.mesh(), arc);
             made.push_back(trial.add_curve(arc, false));
+            ++k;
+            attempt = -1;
         }
         if (made.size() != 2 || length >= best) continue;
         best = length;
@@ -435,7 +468,7 @@ Network network_of_torus(Builder& b, const Say& say) {
     {
         b.split_chords();
         const std::vector<char> block = b.blocked();
-        const auto cost = b.cost_near(block);
+        const auto cost = b.cost_near(block, nullptr, kAdjacency);
         const auto [p, n] = neighbours_on(b.curves_[bb], u);
         const auto sec = sectors(b.s_, u, p, n);
         const std::vector<int> path = b.sector_path(u, sec[0], u, sec[1], block, cost, nullptr);
@@ -455,7 +488,7 @@ Network network_of_torus(Builder& b, const Say& say) {
         Builder t = b;
         t.split_chords();
         const std::vector<char> block = t.blocked();
-        const auto cost = t.cost_near(block);
+        const auto cost = t.cost_near(block, nullptr, kAdjacency);
         const auto [pw, nw] = neighbours_on(t.curves_[a], w);
         const auto sec_w = sectors(t.s_, w, pw, nw);
         PathSearch q;
@@ -487,7 +520,7 @@ Network network_of_torus(Builder& b, const Say& say) {
         const int half_id = t.add_curve(half, false);
         t.split_chords();
         const std::vector<char> block2 = t.blocked();
-        const auto cost2 = t.cost_near(block2);
+        const auto cost2 = t.cost_near(block2, nullptr, kAdjacency);
         const auto [py, ny] = neighbours_on(t.curves_[alpha], y);
         const auto sec_y = sectors(t.s_, y, py, ny);
         const int arrived = t.curves_[half_id][t.curves_[half_id].size() - 2];
@@ -568,7 +601,7 @@ Network network_of_cube(Builder& b, const Say& say) {
         b.split_chords();
         std::vector<char> block = b.blocked();
         for (size_t v = 0; v < is_corner.size(); ++v) block[v] = block[v] || is_corner[v];
-        const auto cost = b.cost_near(block);
+        const auto cost = b.cost_near(block, nullptr, kAdjacency);
         const std::vector<int> leave = b.s_.ring(from), arrive = b.s_.ring(to);
         const std::vector<int> interior = b.sector_path(from, leave, to, arrive, block, cost, nullptr);
         QC_CHECK(!interior.empty(), "cube: an edge could not be routed");

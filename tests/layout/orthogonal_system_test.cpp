@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include "support/files.h"
 #include "support/names.h"
 
 #include <sys/wait.h>
@@ -44,6 +45,17 @@ using layout::Cycle;
 using layout::cycle_length;
 using layout::OrthogonalSystem;
 using layout::verify_orthogonal_system;
+using test::closed_genus;
+using test::have_shared_meshes;
+using test::load_shared;
+using test::python_unavailable;
+using test::report_without_measurements;
+using test::run_shell;
+using test::shared_meshes_dir;
+using test::shell_quoted;
+using test::slurp;
+
+fs::path scratch_dir() { return test::scratch_dir("quadcage_cycles_test_"); }
 
 constexpr double kThickness = 0.6;                  // shapes::PlateOptions default
 constexpr double kBarCycle = 2 * (1 + kThickness);  // tight cycle around a bar (shapes.h)
@@ -56,24 +68,6 @@ Mesh plate(int genus, bool bend = true) {
     shapes::PlateOptions options;
     options.bend = bend;
     return shapes::plate_with_holes(genus, options);
-}
-
-fs::path shared_meshes_dir() { return fs::path(QUADCAGE_SHARED_DIR) / "data" / "meshes"; }
-bool have_shared_meshes() { return fs::is_directory(shared_meshes_dir()); }
-
-// A shared real mesh made ready for the pipeline (its single component).
-Mesh load_shared(const std::string& file) {
-    const std::string path = (shared_meshes_dir() / file).string();
-    const PreparedMesh prepared = prepare_for_quadding(read_mesh(path), path);
-    QC_CHECK(prepared.components.size() == 1, path + " has more than one component");
-    return prepared.components[0];
-}
-
-// Genus of a mesh that must be one closed, manifold, consistently oriented component; -1 if not.
-int closed_genus(const Mesh& mesh) {
-    const ValidationReport r = validate(mesh);
-    if (!r.quaddable() || r.components.size() != 1 || !r.components[0].consistently_oriented) return -1;
-    return r.components[0].genus;
 }
 
 double signed_volume(const Mesh& mesh) {
@@ -141,41 +135,6 @@ double distance_to_surface(const Vec3& p, const Mesh& mesh) {
 // ---------------------------------------------------------------------------------------------
 // Shell, files and the Python checker
 
-std::string slurp(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
-
-// Runs a shell command; returns its exit status (128 + signal if killed).
-int run_shell(const std::string& command) {
-    const int status = std::system(command.c_str());
-    if (status == -1) return -1;
-    return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-}
-
-std::string shell_quoted(const fs::path& p) { return "'" + p.string() + "'"; }
-
-// A fresh scratch directory for the running test, removed by the fixture.
-fs::path scratch_dir() {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    const std::string name = test::identifier(std::string(info->test_suite_name()) + "_" + info->name());
-    const fs::path dir =
-        fs::temp_directory_path() / ("quadcage_layout_test_" + std::to_string(::getpid()) + "_" + name);
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    return dir;
-}
-
-// Why the Python checker cannot run here, or "" if it can.
-std::string python_unavailable() {
-    if (!fs::exists("/usr/bin/python3")) return "/usr/bin/python3 is missing";
-    if (run_shell("/usr/bin/python3 -c 'import numpy, scipy' >/dev/null 2>&1") != 0)
-        return "/usr/bin/python3 cannot import numpy and scipy";
-    return "";
-}
-
 fs::path checker_path() { return fs::path(QUADCAGE_SHARED_DIR) / "tools" / "check_cycles.py"; }
 
 // Runs check_cycles.py; returns its exit status and leaves its output in *log.
@@ -201,17 +160,6 @@ void write_cycles_json(const fs::path& path, const std::vector<Cycle>& cycles) {
 int run_cli_cycles(const fs::path& mesh, const fs::path& dir) {
     return run_shell(shell_quoted(QUADCAGE_CLI) + " cycles " + shell_quoted(mesh) + " -o " + shell_quoted(dir) + " -q >" +
                      shell_quoted(dir.string() + ".log") + " 2>&1 </dev/null");
-}
-
-// report.json without the lines of its measurements of the run itself (wall-clock time, memory),
-// which legitimately differ between two runs; everything else must be identical.
-std::string report_without_measurements(const fs::path& report) {
-    std::istringstream in(slurp(report));
-    std::string line, out;
-    while (std::getline(in, line))
-        if (line.find("\"seconds\":") == std::string::npos && line.find("\"peak_memory_mib\":") == std::string::npos)
-            out += line + "\n";
-    return out;
 }
 
 // ---------------------------------------------------------------------------------------------

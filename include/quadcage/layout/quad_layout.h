@@ -28,7 +28,7 @@ struct LayoutQuality {
     double patch_area_max_over_min = 0;       ///< Largest over smallest patch area.
     double corner_angle_mean_deviation_deg = 0;  ///< Mean |sector angle - 360/degree| over corner sectors.
     double corner_angle_max_deviation_deg = 0;
-    double distortion_mean = 0;  ///< Area-weighted mean conformal distortion (sigma1/sigma2) of the patch maps.
+    double distortion_mean = 0;  ///< Area-weighted geometric mean of the conformal distortion sigma1/sigma2 of the patch maps (1 = conformal).
     double distortion_max = 0;
     double edge_length_over_sqrt_area = 0;    ///< Total length of the layout edges / sqrt(surface area).
     int flipped_triangles = 0;                ///< Triangles whose (u, v) image has non-positive area.

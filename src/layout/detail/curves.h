@@ -55,22 +55,37 @@ public:
     /// edge is never a chord). Returns the number of edges split.
     int split_chords(const std::vector<Cycle>& extra = {});
 
+    /// Splits only the chords (as in split_chords()) on the rim of a failed search: chords of a
+    /// triangle whose third vertex the search reached. Opens the walls that stopped that search
+    /// without refining the rest of the surface. Returns the number of edges split.
+    int split_chords_around(const std::vector<char>& reached);
+
+    /// split_chords_around(), or split_chords() everywhere if no chord borders the search.
+    int open_room(const std::vector<char>& reached) {
+        const int n = split_chords_around(reached);
+        return n > 0 ? n : split_chords();
+    }
+
     /// Splits the given edges at their midpoints and inserts the midpoints into every curve that
     /// walks along them.
     void split_curve_edges(const std::vector<std::pair<int, int>>& edges);
 
     /// Cost of walking half-edge h: its length, more near blocked vertices (avoids hugging them).
     /// With `outside`, the distance field neither starts from nor enters vertices marked there
-    /// (a search confined to one region pays only for that region).
-    std::function<double(int)> cost_near(const std::vector<char>& block, const std::vector<char>* outside = nullptr) const;
+    /// (a search confined to one region pays only for that region). `adjacency` adds that multiple
+    /// of the length to each end of an edge that is a neighbour of a blocked vertex: a path that
+    /// runs next to a curve makes chords, and splitting them makes room for the next path to hug.
+    std::function<double(int)> cost_near(const std::vector<char>& block, const std::vector<char>* outside = nullptr,
+                                         double adjacency = 0) const;
 
     double edge_cost(const std::function<double(int)>& cost, int a, int b) const;
 
     /// Shortest path leaving x through `from_sector` and reaching y through `to_sector` (vertices
-    /// of the sectors that are not blocked). Returns the interior vertices, or empty.
+    /// of the sectors that are not blocked). Returns the interior vertices, or empty; then
+    /// `reached` (if given) marks the vertices the search settled.
     std::vector<int> sector_path(int x, const std::vector<int>& from_sector, int y, const std::vector<int>& to_sector,
                                  const std::vector<char>& block, const std::function<double(int)>& cost,
-                                 double* total) const;
+                                 double* total, std::vector<char>* reached = nullptr) const;
 };
 
 /// Inserts into each open path the midpoints of its split edges (insert_midpoints() for paths

@@ -1,0 +1,349 @@
+// Tests of the minimal quad layout (paper §3-4: Lemma 4, Corollary 2, Theorem 2, Algorithm 1,
+// Remark 1; design.md §2-3): generated solids of genus 0..20 and the shared real meshes through the
+// C++ verifier, the verifier and the Python checker on broken layouts, determinism, the level-1
+// cage, and the CLI end to end against check_layout.py, check_cycles.py and OpenMesh.
+
+#include "quadcage/layout/quad_layout.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstring>
+#include <filesystem>
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "quadcage/core/io.h"
+#include "quadcage/core/openmesh_bridge.h"
+#include "quadcage/core/shapes.h"
+#include "quadcage/subdiv/cage.h"
+#include "support/files.h"
+
+namespace quadcage {
+namespace {
+
+namespace fs = std::filesystem;
+using layout::build_quad_layout;
+using layout::QuadLayout;
+using layout::verify_quad_layout;
+
+int want_quads(int g) { return g >= 2 ? 10 * g - 10 : (g == 1 ? 4 : 6); }
+int want_corners(int g) { return g >= 2 ? 8 * g - 8 : (g == 1 ? 4 : 8); }
+int want_degree(int g) { return g >= 2 ? 5 : (g == 1 ? 4 : 3); }
+
+Mesh plate(int genus) { return shapes::plate_with_holes(genus); }
+
+// Everything a valid layout of `input` (genus g) must satisfy, checked here independently of the
+// verifier where that is cheap.
+void expect_valid_layout(const QuadLayout& L, const Mesh& input, int g) {
+    EXPECT_EQ(verify_quad_layout(L), "");
+    EXPECT_EQ(L.genus, g);
+    EXPECT_EQ(test::closed_genus(L.mesh), g);
+    EXPECT_EQ(L.cage.num_quads(), want_quads(g));
+    EXPECT_EQ(L.cage.num_corners(), want_corners(g));
+    EXPECT_EQ(L.cage.num_edges(), 2 * want_quads(g));
+    std::map<int, int> degree;
+    for (const auto& e : L.cage.edges)
+        for (int c : e.corners) ++degree[c];
+    for (const auto& [c, d] : degree) EXPECT_EQ(d, want_degree(g)) << "corner " << c;
+    EXPECT_EQ(L.quality.flipped_triangles, 0);
+    // The layout mesh is the input, refined: the input's points first, bit-identical.
+    ASSERT_EQ(L.input_vertices, input.num_vertices());
+    ASSERT_GE(L.mesh.num_vertices(), input.num_vertices());
+    for (int v = 0; v < input.num_vertices(); ++v)
+        ASSERT_EQ(std::memcmp(&L.mesh.points[v], &input.points[v], sizeof(Vec3)), 0) << "input vertex " << v << " moved";
+    EXPECT_NEAR(surface_area(L.mesh), surface_area(input), 1e-9 * surface_area(input));
+    // Every triangle has a patch; every patch has triangles.
+    std::set<int> used(L.triangle_patch.begin(), L.triangle_patch.end());
+    EXPECT_EQ(static_cast<int>(used.size()), L.cage.num_quads());
+    // S-cycles: 4g-4 for g >= 2, 2 corners on each.
+    if (g >= 2) {
+        ASSERT_EQ(static_cast<int>(L.s_cycles.size()), 4 * g - 4);
+        std::set<int> corners(L.corner_vertex.begin(), L.corner_vertex.end());
+        for (const auto& s : L.s_cycles)
+            EXPECT_EQ(std::count_if(s.begin(), s.end(), [&](int v) { return corners.count(v) > 0; }), 2);
+    }
+    EXPECT_EQ(static_cast<int>(L.orthogonal_system.size()), 2 * g);
+    // The level-1 cage: one Catmull-Clark step, a simple closed quad mesh of 4x the quads.
+    const subdiv::CageRefinement r = subdiv::refine_cage(L.cage);
+    EXPECT_EQ(r.level1.num_quads(), 4 * want_quads(g));
+    EXPECT_EQ(r.level1.num_vertices() - 2 * r.level1.num_quads() + r.level1.num_quads(), 2 - 2 * g);
+    EXPECT_EQ(subdiv::refine_uniform(r.level1, 1).num_quads(), 16 * want_quads(g));  // rejects multi-edges
+}
+
+// ---------------------------------------------------------------------------------------------
+// 1. Generated solids, genus 0..20
+
+class QuadLayoutGenerated : public ::testing::TestWithParam<int> {};
+
+TEST_P(QuadLayoutGenerated, MinimalLayoutPassesTheVerifier) {
+    const int g = GetParam();
+    const Mesh input = plate(g);
+    expect_valid_layout(build_quad_layout(input), input, g);
+}
+
+INSTANTIATE_TEST_SUITE_P(QuadLayoutGenus0To20, QuadLayoutGenerated, ::testing::Range(0, 21),
+                         [](const ::testing::TestParamInfo<int>& info) { return "genus" + std::to_string(info.param); });
+
+TEST(QuadLayoutShapes, SphereIsACube) {
+    const Mesh input = shapes::icosphere(3);
+    expect_valid_layout(build_quad_layout(input), input, 0);
+}
+
+TEST(QuadLayoutShapes, TorusHasFourQuadsOfDegreeFourCorners) {
+    const Mesh input = shapes::torus(32, 16);
+    const QuadLayout L = build_quad_layout(input);
+    expect_valid_layout(L, input, 1);
+    // On a round torus the four patches are close to equal.
+    EXPECT_LT(L.quality.patch_area_max_over_min, 3.0);
+}
+
+TEST(QuadLayoutShapes, TinyMeshIsRefinedForRoom) {
+    // A tetrahedron has 4 vertices; a cube needs 8 corners and room for 12 arcs.
+    Mesh tet;
+    tet.points = {{1, 1, 1}, {1, -1, -1}, {-1, 1, -1}, {-1, -1, 1}};
+    tet.triangles = {{0, 1, 2}, {0, 3, 1}, {0, 2, 3}, {1, 3, 2}};
+    const QuadLayout L = build_quad_layout(tet);
+    expect_valid_layout(L, tet, 0);
+}
+
+// ---------------------------------------------------------------------------------------------
+// 2. Shared real meshes: the C++ verifier on all of them
+
+struct RealMeshCase {
+    const char* file;
+    int genus;
+};
+
+class QuadLayoutRealMesh : public ::testing::TestWithParam<RealMeshCase> {};
+
+TEST_P(QuadLayoutRealMesh, MinimalLayoutPassesTheVerifier) {
+    if (!test::have_shared_meshes()) GTEST_SKIP() << "shared meshes not found in " << test::shared_meshes_dir();
+    const Mesh input = test::load_shared(GetParam().file);
+    expect_valid_layout(build_quad_layout(input), input, GetParam().genus);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    QuadLayoutSharedMeshes, QuadLayoutRealMesh,
+    ::testing::Values(RealMeshCase{"bunny.obj", 0}, RealMeshCase{"igea.ply", 0}, RealMeshCase{"kitten.off", 1},
+                      RealMeshCase{"torus.obj", 1}, RealMeshCase{"eight.off", 2}, RealMeshCase{"skull.obj", 2},
+                      RealMeshCase{"3holes.off", 3}, RealMeshCase{"fertility.off", 4},
+                      RealMeshCase{"botijo.off", 5}, RealMeshCase{"input_wheel.off", 11},
+                      RealMeshCase{"boot.obj", 12}),
+    [](const ::testing::TestParamInfo<RealMeshCase>& info) {
+        const std::string file = info.param.file;
+        return file.substr(0, file.find('.'));
+    });
+
+// ---------------------------------------------------------------------------------------------
+// 3. Determinism
+
+TEST(QuadLayoutDeterminism, TwoRunsAreIdentical) {
+    const Mesh input = plate(3);
+    const QuadLayout a = build_quad_layout(input), b = build_quad_layout(input);
+    ASSERT_EQ(a.mesh.num_vertices(), b.mesh.num_vertices());
+    EXPECT_EQ(std::memcmp(a.mesh.points.data(), b.mesh.points.data(), a.mesh.points.size() * sizeof(Vec3)), 0);
+    EXPECT_EQ(a.mesh.triangles, b.mesh.triangles);
+    EXPECT_EQ(a.triangle_patch, b.triangle_patch);
+    EXPECT_EQ(a.corner_vertex, b.corner_vertex);
+    EXPECT_EQ(a.edge_paths, b.edge_paths);
+    EXPECT_EQ(a.s_cycles, b.s_cycles);
+    ASSERT_EQ(a.corner_uv.size(), b.corner_uv.size());
+    EXPECT_EQ(std::memcmp(a.corner_uv.data(), b.corner_uv.data(), a.corner_uv.size() * sizeof(a.corner_uv[0])), 0);
+}
+
+// ---------------------------------------------------------------------------------------------
+// 4. The verifier rejects broken layouts
+
+class QuadLayoutVerifier : public ::testing::Test {
+protected:
+    static void SetUpTestSuite() { valid_ = new QuadLayout(build_quad_layout(plate(2))); }
+    static void TearDownTestSuite() {
+        delete valid_;
+        valid_ = nullptr;
+    }
+    static QuadLayout* valid_;
+};
+QuadLayout* QuadLayoutVerifier::valid_ = nullptr;
+
+TEST_F(QuadLayoutVerifier, AcceptsTheValidLayout) { EXPECT_EQ(verify_quad_layout(*valid_), ""); }
+
+// A triangle with directed edge a -> b, or -1.
+int triangle_with(const Mesh& m, int a, int b) {
+    for (int t = 0; t < m.num_triangles(); ++t)
+        for (int k = 0; k < 3; ++k)
+            if (m.triangles[t][k] == a && m.triangles[t][(k + 1) % 3] == b) return t;
+    return -1;
+}
+
+TEST_F(QuadLayoutVerifier, RejectsATriangleInTheWrongPatch) {
+    QuadLayout L = *valid_;
+    // A triangle on a layout edge, given to the patch across that edge.
+    const auto& path = L.edge_paths[0];
+    int t = triangle_with(L.mesh, path[1], path[2]);
+    if (L.triangle_patch[t] == L.cage.edges[0].quads[0]) L.triangle_patch[t] = L.cage.edges[0].quads[1];
+    else L.triangle_patch[t] = L.cage.edges[0].quads[0];
+    EXPECT_NE(verify_quad_layout(L), "");
+}
+
+TEST_F(QuadLayoutVerifier, RejectsAReversedQuad) {
+    QuadLayout L = *valid_;
+    auto& q = L.cage.quads[3];
+    std::reverse(q.corners.begin(), q.corners.end());
+    EXPECT_NE(verify_quad_layout(L), "");
+}
+
+TEST_F(QuadLayoutVerifier, RejectsAFlippedTriangleInAPatchMap) {
+    QuadLayout L = *valid_;
+    std::swap(L.corner_uv[10][0], L.corner_uv[10][1]);
+    EXPECT_NE(verify_quad_layout(L), "");
+}
+
+TEST_F(QuadLayoutVerifier, RejectsASideVertexOffItsArcLengthPosition) {
+    QuadLayout L = *valid_;
+    const int v = L.edge_paths[2][1];  // interior vertex of a layout edge
+    bool moved = false;
+    for (int t = 0; t < L.mesh.num_triangles() && !moved; ++t)
+        for (int k = 0; k < 3; ++k)
+            if (L.mesh.triangles[t][k] == v) {
+                L.corner_uv[t][k][0] = 0.5 * (L.corner_uv[t][k][0] + 0.5);
+                L.corner_uv[t][k][1] = 0.5 * (L.corner_uv[t][k][1] + 0.5);
+                moved = true;
+                break;
+            }
+    ASSERT_TRUE(moved);
+    EXPECT_NE(verify_quad_layout(L), "");
+}
+
+TEST_F(QuadLayoutVerifier, RejectsAnEdgePathThatLeavesTheMesh) {
+    QuadLayout L = *valid_;
+    auto& path = L.edge_paths[1];
+    path.erase(path.begin() + static_cast<long>(path.size() / 2));
+    EXPECT_NE(verify_quad_layout(L), "");
+}
+
+TEST_F(QuadLayoutVerifier, RejectsTheWrongCorners) {
+    QuadLayout L = *valid_;
+    L.corner_vertex[0] = L.corner_vertex[1];
+    EXPECT_NE(verify_quad_layout(L), "");
+    QuadLayout M = *valid_;
+    M.genus = 3;
+    EXPECT_NE(verify_quad_layout(M), "");
+}
+
+// ---------------------------------------------------------------------------------------------
+// 5. The CLI end to end: check_layout.py, check_cycles.py, OpenMesh on the level-1 cage
+
+class QuadLayoutCli : public ::testing::Test {
+protected:
+    void SetUp() override { dir_ = test::scratch_dir("quadcage_layout_test_"); }
+    void TearDown() override {
+        std::error_code ignored;
+        fs::remove_all(dir_, ignored);
+    }
+
+    int run_layout(const fs::path& mesh, const fs::path& out, std::string* log) {
+        return test::run_logged(test::shell_quoted(QUADCAGE_CLI) + " layout -q " + test::shell_quoted(mesh) + " -o " +
+                                    test::shell_quoted(out),
+                                out.string() + ".log", log);
+    }
+
+    // Runs `quadcage layout` twice, compares the outputs, then the checkers and OpenMesh.
+    void run_and_check(const fs::path& mesh, int g) {
+        const fs::path first = dir_ / "run1", second = dir_ / "run2";
+        std::string log;
+        ASSERT_EQ(run_layout(mesh, first, &log), 0) << log;
+        ASSERT_EQ(run_layout(mesh, second, &log), 0) << log;
+        for (const char* file : {"layout.ply", "cage.obj", "cage.json", "cage_level1.obj", "cycles.json"}) {
+            const std::string bytes = test::slurp(first / file);
+            EXPECT_FALSE(bytes.empty()) << file;
+            EXPECT_TRUE(bytes == test::slurp(second / file)) << file << " differs between two runs";
+        }
+        EXPECT_EQ(test::report_without_measurements(first / "report.json"),
+                  test::report_without_measurements(second / "report.json"));
+
+        const PolygonMeshSummary level1 = read_with_openmesh((first / "cage_level1.obj").string());
+        EXPECT_EQ(level1.faces, 4 * want_quads(g));
+        EXPECT_TRUE(level1.closed());
+        EXPECT_TRUE(level1.all_quads());
+        EXPECT_EQ(level1.euler_characteristic(), 2 - 2 * g);
+        EXPECT_EQ(level1.isolated_vertices, 0);
+
+        const std::string why = test::python_unavailable();
+        if (!why.empty()) GTEST_SKIP() << "checkers not run: " << why;
+        EXPECT_EQ(test::run_logged(test::shell_quoted(test::shared_tool("check_layout.py")) + " --patches " +
+                                       test::shell_quoted(first / "layout.ply") + " --cage " +
+                                       test::shell_quoted(first / "cage.obj") + " --input " + test::shell_quoted(mesh),
+                                   dir_ / "check_layout.txt", &log),
+                  0)
+            << log;
+        EXPECT_EQ(test::run_logged(test::shell_quoted(test::shared_tool("check_cycles.py")) + " --mesh " +
+                                       test::shell_quoted(first / "layout.ply") + " --cycles " +
+                                       test::shell_quoted(first / "cycles.json"),
+                                   dir_ / "check_cycles.txt", &log),
+                  0)
+            << log;
+    }
+
+    fs::path dir_;
+};
+
+TEST_F(QuadLayoutCli, EightPassesTheCheckers) {
+    if (!test::have_shared_meshes()) GTEST_SKIP() << "shared meshes not found";
+    run_and_check(test::shared_meshes_dir() / "eight.off", 2);
+}
+
+TEST_F(QuadLayoutCli, FertilityPassesTheCheckers) {
+    if (!test::have_shared_meshes()) GTEST_SKIP() << "shared meshes not found";
+    run_and_check(test::shared_meshes_dir() / "fertility.off", 4);
+}
+
+TEST_F(QuadLayoutCli, KittenPassesTheCheckers) {
+    if (!test::have_shared_meshes()) GTEST_SKIP() << "shared meshes not found";
+    run_and_check(test::shared_meshes_dir() / "kitten.off", 1);
+}
+
+TEST_F(QuadLayoutCli, BunnyPassesTheCheckers) {
+    if (!test::have_shared_meshes()) GTEST_SKIP() << "shared meshes not found";
+    run_and_check(test::shared_meshes_dir() / "bunny.obj", 0);
+}
+
+TEST_F(QuadLayoutCli, PlateGenus6PassesTheCheckers) {
+    const fs::path input = dir_ / "plate6.ply";
+    write_ply(input.string(), plate(6));
+    run_and_check(input, 6);
+}
+
+TEST_F(QuadLayoutCli, CheckerRejectsABrokenLayout) {
+    // The end-to-end check means something only if the checker fails on a broken layout too.
+    const std::string why = test::python_unavailable();
+    if (!why.empty()) GTEST_SKIP() << "checkers not run: " << why;
+    QuadLayout L = build_quad_layout(plate(2));
+    const auto& path = L.edge_paths[0];
+    const int t = triangle_with(L.mesh, path[1], path[2]);
+    L.triangle_patch[t] = L.triangle_patch[t] == L.cage.edges[0].quads[0] ? L.cage.edges[0].quads[1] : L.cage.edges[0].quads[0];
+    PlyExtras extras;
+    extras.face_int_name = "patch";
+    extras.face_ints = L.triangle_patch;
+    write_ply((dir_ / "broken.ply").string(), L.mesh, extras);
+    std::string log;
+    EXPECT_NE(test::run_logged(test::shell_quoted(test::shared_tool("check_layout.py")) + " --patches " +
+                                   test::shell_quoted(dir_ / "broken.ply"),
+                               dir_ / "check.txt", &log),
+              0)
+        << log;
+    EXPECT_NE(log.find("FAIL "), std::string::npos) << log;
+}
+
+TEST_F(QuadLayoutCli, RejectsAnOpenMeshWithExitCode3AndWritesNothing) {
+    if (!test::have_shared_meshes()) GTEST_SKIP() << "shared meshes not found";
+    std::string log;
+    EXPECT_EQ(run_layout(test::shared_meshes_dir() / "stanford-bunny.obj", dir_ / "out", &log), 3) << log;
+    EXPECT_NE(log.find("boundary"), std::string::npos) << log;
+    EXPECT_FALSE(fs::exists(dir_ / "out" / "layout.ply"));
+}
+
+}  // namespace
+}  // namespace quadcage
