@@ -38,4 +38,14 @@ struct SubdivideOptions {
 };
 int run_subdivide(const SubdivideOptions& options);
 
+struct RenderCommandOptions {
+    std::string input;          ///< A mesh file, or a directory written by `layout` / `fit`.
+    std::string output;         ///< PNG file.
+    std::string kind = "auto";  ///< "layout", "deviation", "plain" or "auto" (from the input).
+    std::string size = "1200x600";
+    std::string title;          ///< Empty: the input's file name.
+    bool quiet = false;
+};
+int run_render(const RenderCommandOptions& options);
+
 }  // namespace quadcage::cli

@@ -54,6 +54,24 @@ int main(int argc, char** argv) {
     sub_cmd->add_option("-t,--times", sub.times, "Number of 1-to-4 splits")->check(CLI::Range(1, 6));
     sub_cmd->add_option("-o,--output", sub.output, "Output file (.ply or .obj)")->required();
 
+    RenderCommandOptions render;
+    CLI::App* render_cmd = app.add_subcommand(
+        "render", "Draw a PNG (software renderer, no display needed), two views side by side.\n"
+                  "  layout:    patches of a 'patch' face property in distinct colours, patch boundaries\n"
+                  "             as lines, corners (>= 3 patches) as dots (DIR/layout.ply of `quadcage layout`);\n"
+                  "  deviation: colours by a 'distance' vertex property, with a colour bar in absolute units\n"
+                  "             and % of the bounding-box diagonal (DIR/deviation.ply of `quadcage fit`);\n"
+                  "  plain:     any mesh, shaded.\n"
+                  "  auto (default): for DIR, deviation.ply if present else layout.ply; for a file, by the\n"
+                  "             properties it has.");
+    render_cmd->add_option("INPUT", render.input, "Mesh file, or a directory written by layout / fit")->required();
+    render_cmd->add_option("-o,--output", render.output, "Output PNG file")->required();
+    render_cmd->add_option("--kind", render.kind, "layout, deviation, plain or auto")
+        ->check(CLI::IsMember({"layout", "deviation", "plain", "auto"}));
+    render_cmd->add_option("--size", render.size, "Image size WIDTHxHEIGHT (default 1200x600)");
+    render_cmd->add_option("--title", render.title, "Title line (default: the input's name)");
+    render_cmd->add_flag("-q,--quiet", render.quiet, "Print nothing on success");
+
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -66,6 +84,7 @@ int main(int argc, char** argv) {
         if (*cycles_cmd) return run_cycles(cycles);
         if (*gen_cmd) return run_generate(gen);
         if (*sub_cmd) return run_subdivide(sub);
+        if (*render_cmd) return run_render(render);
     } catch (const quadcage::InvalidInput& e) {
         std::fprintf(stderr, "quadcage: error: %s\n", e.what());
         return kInvalidInput;
