@@ -112,7 +112,11 @@ PatchStructure patch_structure(const Mesh& mesh, const std::vector<int>& patch) 
     for (size_t v = 0; v < vertex_patches.size(); ++v) {
         auto& ps = vertex_patches[v];
         std::sort(ps.begin(), ps.end());
-        if (std::unique(ps.begin(), ps.end()) - ps.begin() >= 3) s.corners.push_back(static_cast<int>(v));
+        ps.erase(std::unique(ps.begin(), ps.end()), ps.end());
+        if (ps.size() >= 3) {
+            s.corners.push_back(static_cast<int>(v));
+            s.corner_patches.push_back(ps);
+        }
     }
     return s;
 }
@@ -120,7 +124,13 @@ PatchStructure patch_structure(const Mesh& mesh, const std::vector<int>& patch) 
 Image layout_figure(const Mesh& mesh, const std::vector<int>& patch, const FigureOptions& o) {
     if (const std::string e = o.validate(); !e.empty()) throw InvalidInput("figure options: " + e);
     const PatchStructure s = patch_structure(mesh, patch);
-    const std::vector<Rgb> colours = patch_colours(s.adjacency);
+    // Patches meeting at a corner count as neighbours for colouring (diagonal quads of a grid).
+    std::vector<std::vector<int>> near = s.adjacency;
+    for (const auto& ps : s.corner_patches)
+        for (int p : ps)
+            for (int q : ps)
+                if (p != q) near[p].push_back(q);
+    const std::vector<Rgb> colours = patch_colours(near);
     std::vector<int> labels(patch);
     std::sort(labels.begin(), labels.end());
     labels.erase(std::unique(labels.begin(), labels.end()), labels.end());

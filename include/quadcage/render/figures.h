@@ -25,16 +25,18 @@ struct FigureOptions {
 struct PatchStructure {
     std::vector<std::array<int, 2>> boundary_edges;  ///< Vertex pairs (a < b) of edges whose two sides differ in patch.
     std::vector<int> corners;                        ///< Vertices where at least 3 patches meet (ascending).
-    std::vector<std::vector<int>> adjacency;         ///< Per patch label 0..max: labels sharing an edge (ascending).
-    int patches = 0;                                 ///< Number of labels (max label + 1).
+    std::vector<std::vector<int>> corner_patches;    ///< Per corner, the patches meeting there (ascending).
+    std::vector<std::vector<int>> adjacency;         ///< Per patch: the patches sharing an edge with it (ascending).
+    int patches = 0;                                 ///< Number of distinct labels.
 };
 
 /// Boundary edges, corners and patch adjacency of the labelling `patch` (one label >= 0 per
-/// triangle; labels need not be contiguous).
+/// triangle; labels need not be contiguous: patch i is the i-th smallest label).
 /// \throw InvalidInput if `patch` has the wrong size, a negative label or the mesh bad indices.
 PatchStructure patch_structure(const Mesh& mesh, const std::vector<int>& patch);
 
-/// Two views of a quad layout: every patch in its own colour (neighbours never alike), patch
+/// Two views of a quad layout: every patch in its own colour (patches sharing an edge or a corner
+/// get clearly different colours, see patch_colours()), patch
 /// boundaries as dark lines and corners (>= 3 patches) as red dots. The title line also states the
 /// patch and corner counts.
 /// \throw InvalidInput as patch_structure() and render_scene().
