@@ -79,7 +79,9 @@ std::string outcome(const ChildResult& r, double timeout, std::string* reason) {
         if (reason) *reason = line.empty() ? "invalid input (exit code 3)" : line;
         return "rejected";
     }
-    return "failed: " + (line.empty() ? "exit code " + std::to_string(r.exit_code) : line);
+    // Exit 2 is the CLI's usage error: e.g. a stage command this quadcage does not have yet.
+    const std::string what = r.exit_code == 2 ? "usage error (exit 2): " : "";
+    return "failed: " + what + (line.empty() ? "exit code " + std::to_string(r.exit_code) : line);
 }
 
 std::optional<json> read_json(const fs::path& p) {
@@ -355,7 +357,7 @@ private:
         for (PeerResult& p : m_.peers) {
             if (!o_.peer) p.status = "disabled";
             else if (blender.empty()) p.status = "not installed";
-            else if (m_.stage == "info") p.status = "-";
+            else if (m_.stage == "info") p.status = "not run (" + m_.status + ")";
             else if (!p.target_faces) p.status = "failed: minimal quad count unknown";
         }
         if (!o_.peer || blender.empty() || m_.stage == "info" || !a.target_faces) return;

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <csignal>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -41,7 +42,7 @@ protected:
         fs::create_directories(dir_ / "in");
     }
     void TearDown() override {
-        if (!HasFailure()) fs::remove_all(dir_);
+        if (!HasFailure() && !std::getenv("QUADCAGE_KEEP_TEST_OUTPUT")) fs::remove_all(dir_);
     }
 
     // A small sphere saved under a name that tells the fake child how to behave.

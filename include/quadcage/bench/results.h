@@ -28,7 +28,7 @@ struct LevelResult {
 struct PeerResult {
     std::string target;                   ///< "minimal" (our minimal quad count) or "level2" (16 times it).
     std::optional<int> target_faces;
-    std::string status = "-";             ///< "ok", "empty", "not installed", "disabled", "failed: ...", "-".
+    std::string status = "-";             ///< "ok", "empty", "not installed", "disabled", "not run (...)", "failed: ...".
     std::optional<int> faces, quads, genus, irregular_vertices;
     std::optional<double> seconds;        ///< QuadriFlow alone, as timed inside Blender.
 };
