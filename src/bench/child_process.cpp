@@ -73,7 +73,15 @@ ChildResult run_child(const std::vector<std::string>& argv, const ChildOptions& 
     struct stat st {};
     const off_t err_start = (!o.stderr_path.empty() && ::fstat(err_fd, &st) == 0) ? st.st_size : 0;
 
-    // Everything the child needs is prepared before fork(): after it, only async-signal-safe calls.
+    // Everything the child needs is prepared before fork(): after it, only async-signal-safe calls
+    // (hence the PATH lookup here and execv() below, not execvp()).
+    const std::string program = find_on_path(argv[0]);
+    if (program.empty()) {
+        r.error = "cannot run '" + argv[0] + "': " +
+                  (argv[0].find('/') == std::string::npos ? "not found on PATH" : "No such file or not executable");
+        ::close(in_fd), ::close(out_fd), ::close(err_fd);
+        return r;
+    }
     std::vector<char*> args;
     for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
     args.push_back(nullptr);
@@ -90,7 +98,7 @@ ChildResult run_child(const std::vector<std::string>& argv, const ChildOptions& 
         ::dup2(in_fd, 0);
         ::dup2(out_fd, 1);
         ::dup2(err_fd, 2);
-        ::execvp(args[0], args.data());
+        ::execv(program.c_str(), args.data());
         const int e = errno;
         ssize_t ignored = ::write(report[1], &e, sizeof e);
         (void)ignored;
