@@ -2,6 +2,7 @@
 // The CLI's commands: each parses nothing itself; quadcage.cpp fills the options and calls one.
 
 #include <string>
+#include <vector>
 
 namespace quadcage::cli {
 
@@ -44,5 +45,29 @@ struct SubdivideOptions {
     std::string output;
 };
 int run_subdivide(const SubdivideOptions& options);
+
+struct RenderCommandOptions {
+    std::string input;          ///< A mesh file, or a directory written by `layout` / `fit`.
+    std::string output;         ///< PNG file.
+    std::string kind = "auto";  ///< "layout", "deviation", "plain" or "auto" (from the input).
+    std::string size = "1200x600";
+    std::string title;          ///< Empty: the input's file name.
+    bool quiet = false;
+};
+int run_render(const RenderCommandOptions& options);
+
+struct BenchCommandOptions {
+    std::vector<std::string> paths;  ///< Meshes, folders of meshes, manifests (.txt).
+    std::string output_dir;
+    std::string levels = "0,1,2,3";
+    double tolerance = 0;            ///< > 0: passed to fit as --tolerance.
+    int jobs = 1;
+    double timeout_seconds = 1800;   ///< Per child process.
+    bool no_peer = false;
+    bool no_pictures = false;
+    std::string blender = "blender";
+    std::string peer_script;         ///< Empty: the repository's tools/bench/quadriflow.py.
+};
+int run_bench(const BenchCommandOptions& options);
 
 }  // namespace quadcage::cli

@@ -6,7 +6,7 @@ set -euo pipefail
 packages=(
   build-essential cmake pkg-config
   libosd-dev libopenmesh-dev libceres-dev libembree-dev libeigen3-dev libgtest-dev
-  libcli11-dev nlohmann-json3-dev
+  libcli11-dev nlohmann-json3-dev libpng-dev
   python3 python3-numpy python3-scipy
 )
 

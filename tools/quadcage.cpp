@@ -65,6 +65,47 @@ int main(int argc, char** argv) {
     sub_cmd->add_option("-t,--times", sub.times, "Number of 1-to-4 splits")->check(CLI::Range(1, 6));
     sub_cmd->add_option("-o,--output", sub.output, "Output file (.ply or .obj)")->required();
 
+    RenderCommandOptions render;
+    CLI::App* render_cmd = app.add_subcommand(
+        "render", "Draw a PNG (software renderer, no display needed), two views side by side.\n"
+                  "  layout:    patches of a 'patch' face property in distinct colours, patch boundaries\n"
+                  "             as lines, corners (>= 3 patches) as dots (DIR/layout.ply of `quadcage layout`);\n"
+                  "  deviation: colours by a 'distance' vertex property, with a colour bar in absolute units\n"
+                  "             and % of the bounding-box diagonal (DIR/deviation.ply of `quadcage fit`);\n"
+                  "  plain:     any mesh, shaded.\n"
+                  "  auto (default): for DIR, deviation.ply if present else layout.ply; for a file, by the\n"
+                  "             properties it has.");
+    render_cmd->add_option("INPUT", render.input, "Mesh file, or a directory written by layout / fit")->required();
+    render_cmd->add_option("-o,--output", render.output, "Output PNG file")->required();
+    render_cmd->add_option("--kind", render.kind, "layout, deviation, plain or auto")
+        ->check(CLI::IsMember({"layout", "deviation", "plain", "auto"}));
+    render_cmd->add_option("--size", render.size, "Image size WIDTHxHEIGHT (default 1200x600)");
+    render_cmd->add_option("--title", render.title, "Title line (default: the input's name)");
+    render_cmd->add_flag("-q,--quiet", render.quiet, "Print nothing on success");
+
+    BenchCommandOptions bench;
+    CLI::App* bench_cmd = app.add_subcommand(
+        "bench", "Benchmark many meshes. For each: `info --json` (exit 3 -> status rejected), `layout`,\n"
+                 "its picture, `fit --level K` per level with a deviation picture, and QuadriFlow through\n"
+                 "Blender as a peer (if `blender` is on PATH). Every stage runs in its own child process\n"
+                 "with a timeout: a crash or timeout is recorded and the run goes on. A failed layout\n"
+                 "skips that mesh's fits. Writes DIR/bench.csv, bench.json, bench.md, plot.png and\n"
+                 "DIR/meshes/<name>/ (stage outputs, pictures, log.txt). Progress on stderr.\n"
+                 "Exits 0 once the tables are written, whatever the meshes' statuses.");
+    bench_cmd->add_option("PATH", bench.paths, "Mesh files, folders (their .obj/.ply/.off/.stl) or manifests (.txt, one path a line)")
+        ->required();
+    bench_cmd->add_option("-o,--output", bench.output_dir, "Output directory (created if missing)")->required();
+    bench_cmd->add_option("--levels", bench.levels, "Fit levels, comma-separated (default 0,1,2,3; 'none': no fits)");
+    bench_cmd->add_option("--tolerance", bench.tolerance, "Passed to every fit as --tolerance T (default: not passed)")
+        ->check(CLI::NonNegativeNumber);
+    bench_cmd->add_option("-j,--jobs", bench.jobs, "Meshes processed at the same time (default 1)")->check(CLI::Range(1, 64));
+    bench_cmd->add_option("--timeout", bench.timeout_seconds, "Wall-clock limit of each stage in seconds (default 1800)")
+        ->check(CLI::PositiveNumber);
+    bench_cmd->add_flag("--no-peer", bench.no_peer, "Do not run QuadriFlow");
+    bench_cmd->add_flag("--no-pictures", bench.no_pictures, "Do not draw the layout and deviation pictures");
+    bench_cmd->add_option("--blender", bench.blender, "Blender executable (default: blender on PATH)");
+    bench_cmd->add_option("--peer-script", bench.peer_script, "QuadriFlow script (default: the repository's tools/bench/quadriflow.py)");
+
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -78,6 +119,8 @@ int main(int argc, char** argv) {
         if (*layout_cmd) return run_layout(layout);
         if (*gen_cmd) return run_generate(gen);
         if (*sub_cmd) return run_subdivide(sub);
+        if (*render_cmd) return run_render(render);
+        if (*bench_cmd) return run_bench(bench);
     } catch (const quadcage::InvalidInput& e) {
         std::fprintf(stderr, "quadcage: error: %s\n", e.what());
         return kInvalidInput;

@@ -730,10 +730,17 @@ void add_strips(const std::vector<int>& v, Mesh& mesh) {
 
 template <class Reader>
 void read_ply_body(const std::string& path, const PlyHeader& h, const char* encoding, Reader& r, Mesh& mesh,
-                   LoadInfo& info) {
+                   LoadInfo& info, PlyExtras* extras) {
     std::vector<int> corners;
     for (const PlyElement& el : h.elements) {
         const PlyLayout lay = layout_of(path, el);
+        // The optional scalar property of this element that the caller asked for (-1: none).
+        int extra = -1;
+        if (extras && (lay.role == PlyRole::vertex || lay.role == PlyRole::face)) {
+            const std::string& want = lay.role == PlyRole::vertex ? extras->vertex_float_name : extras->face_int_name;
+            for (size_t j = 0; j < el.props.size() && !want.empty(); ++j)
+                if (!el.props[j].is_list && el.props[j].name == want) extra = static_cast<int>(j);
+        }
         auto truncated = [&](long long done) {
             fail(path, std::string("truncated ") + encoding + " PLY: expected " + std::to_string(el.count) + " '" + el.name +
                            "' elements, file ends after " + std::to_string(done));
@@ -746,6 +753,7 @@ void read_ply_body(const std::string& path, const PlyHeader& h, const char* enco
         for (long long i = 0; i < el.count; ++i) {
             r.at(el.name, i);
             double xyz[3] = {0, 0, 0};
+            double extra_value = 0;
             for (size_t j = 0; j < el.props.size(); ++j) {
                 const PlyProperty& prop = el.props[j];
                 const int idx = static_cast<int>(j);
@@ -769,26 +777,34 @@ void read_ply_body(const std::string& path, const PlyHeader& h, const char* enco
                     else add_strips(corners, mesh);
                 } else if (idx == lay.x || idx == lay.y || idx == lay.z) {
                     if (!r.number(prop.type, xyz[idx == lay.x ? 0 : (idx == lay.y ? 1 : 2)])) truncated(i);
+                } else if (idx == extra) {
+                    if (!r.number(prop.type, extra_value)) truncated(i);
                 } else if (!r.skip(prop.type)) {
                     truncated(i);
                 }
             }
             if (lay.role == PlyRole::vertex) mesh.points.push_back({xyz[0], xyz[1], xyz[2]});
+            if (extra >= 0 && lay.role == PlyRole::vertex) extras->vertex_floats.push_back(static_cast<float>(extra_value));
+            if (extra >= 0 && lay.role == PlyRole::face) {
+                // One value per triangle of the polygon's fan.
+                const int value = static_cast<int>(std::clamp(extra_value, -2147483648.0, 2147483647.0));
+                extras->face_ints.resize(mesh.triangles.size(), value);
+            }
         }
     }
 }
 
-void read_ply(const std::string& path, std::string_view data, Mesh& mesh, LoadInfo& info) {
+void read_ply(const std::string& path, std::string_view data, Mesh& mesh, LoadInfo& info, PlyExtras* extras) {
     const PlyHeader h = parse_ply_header(path, data);
     if (h.encoding == PlyEncoding::ascii) {
         info.format = "ply-ascii";
         PlyAsciiReader r(path, data, h.data_offset, h.data_line);
-        read_ply_body(path, h, "ASCII", r, mesh, info);
+        read_ply_body(path, h, "ASCII", r, mesh, info, extras);
     } else {
         const bool big = h.encoding == PlyEncoding::binary_be;
         info.format = big ? "ply-binary-be" : "ply-binary-le";
         PlyBinaryReader r(data, h.data_offset, big);
-        read_ply_body(path, h, big ? "binary big-endian" : "binary little-endian", r, mesh, info);
+        read_ply_body(path, h, big ? "binary big-endian" : "binary little-endian", r, mesh, info, extras);
     }
 }
 
@@ -924,7 +940,10 @@ void check_extras(const std::string& path, const Mesh& mesh, const PlyExtras& ex
 
 }  // namespace
 
-Mesh read_mesh(const std::string& path, LoadInfo* info) {
+namespace {
+
+// read_mesh() and read_ply_with_extras(): `extras` non-null only for the latter (PLY only).
+Mesh read_any(const std::string& path, LoadInfo* info, PlyExtras* extras) {
     const std::string data = read_whole_file(path);
     if (data.find_first_not_of(" \t\r\n\v\f") == std::string::npos)
         fail(path, data.empty() ? "file is empty: contains no triangles" : "file holds only whitespace: contains no triangles");
@@ -939,7 +958,7 @@ Mesh read_mesh(const std::string& path, LoadInfo* info) {
     switch (detect_format(body, ext)) {
         case Format::obj: li.format = "obj"; read_obj(path, body, mesh, li); break;
         case Format::off: li.format = "off"; read_off(path, body, mesh, li); break;
-        case Format::ply: read_ply(path, body, mesh, li); break;
+        case Format::ply: read_ply(path, body, mesh, li, extras); break;
         case Format::stl_ascii: li.format = "stl-ascii"; read_stl_ascii(path, body, mesh, li); break;
         case Format::stl_binary: li.format = "stl-binary"; read_stl_binary(path, data, mesh, li); break;
         case Format::unknown:
@@ -953,6 +972,25 @@ Mesh read_mesh(const std::string& path, LoadInfo* info) {
     }
     if (mesh.points.empty())
         fail(path, "contains " + std::to_string(mesh.triangles.size()) + " triangles but no vertices (" + li.format + ")");
+    if (info) *info = li;
+    return mesh;
+}
+
+}  // namespace
+
+Mesh read_mesh(const std::string& path, LoadInfo* info) { return read_any(path, info, nullptr); }
+
+Mesh read_ply_with_extras(const std::string& path, PlyExtras& extras, LoadInfo* info) {
+    extras.face_ints.clear();
+    extras.vertex_floats.clear();
+    LoadInfo li;
+    Mesh mesh = read_any(path, &li, &extras);
+    if (li.format.rfind("ply", 0) != 0)
+        fail(path, "is a " + li.format + " file, not a PLY: per-face and per-vertex properties are read from PLY only");
+    // A property counts as present only if it covers every triangle (vertex): e.g. a second face
+    // element without it makes it absent.
+    if (!extras.face_ints.empty() && extras.face_ints.size() != mesh.triangles.size()) extras.face_ints.clear();
+    if (!extras.vertex_floats.empty() && extras.vertex_floats.size() != mesh.points.size()) extras.vertex_floats.clear();
     if (info) *info = li;
     return mesh;
 }

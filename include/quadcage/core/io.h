@@ -34,6 +34,15 @@ struct PlyExtras {
     std::vector<float> vertex_floats;  ///< One value per vertex.
 };
 
+/// Reads a PLY file like read_mesh() and also the scalar properties named in `extras`:
+/// `face_int_name` on the `face` element and `vertex_float_name` on the `vertex` element (either may be
+/// empty: not read). Values are converted to int (clamped) and float; a polygon's value is repeated on
+/// every triangle of its fan, so `face_ints` has one value per triangle of the result. A property the
+/// file lacks leaves its vector empty (callers decide whether that is an error). read_mesh() itself
+/// ignores such properties.
+/// \throw InvalidInput as read_mesh(), and if the file is not a PLY.
+Mesh read_ply_with_extras(const std::string& path, PlyExtras& extras, LoadInfo* info = nullptr);
+
 /// Writes a PLY file (binary little-endian unless `ascii`) with the optional properties of `extras`:
 /// vertices as `double` x, y, z (coordinates read back bit-identical), faces as
 /// `list uchar int vertex_indices`. Writes to `path + ".tmp"` and renames it, so a failure never

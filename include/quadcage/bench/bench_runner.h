@@ -1,0 +1,56 @@
+#pragma once
+// `quadcage bench`: run info, layout and fit (and pictures, and the QuadriFlow peer) on many meshes,
+// each stage in its own child process, and collect the results. Issue #6.
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "quadcage/bench/inputs.h"
+#include "quadcage/bench/results.h"
+
+namespace quadcage::bench {
+
+/// The command line of each stage, as argv templates. Placeholders, replaced in every argument:
+/// {exe} the quadcage executable, {mesh} the input mesh, {dir} the stage's output folder,
+/// {level} the subdivision level, {input} the render input, {png} the picture, {kind} the picture
+/// kind, {title} its title, {blender} the Blender executable, {script} the peer script,
+/// {out} the peer's output OBJ, {faces} the peer's target face count.
+struct StageCommands {
+    std::vector<std::string> info = {"{exe}", "info", "{mesh}", "--json"};
+    std::vector<std::string> layout = {"{exe}", "layout", "{mesh}", "-o", "{dir}"};
+    std::vector<std::string> fit = {"{exe}", "fit", "{mesh}", "-o", "{dir}", "--level", "{level}"};
+    std::vector<std::string> render = {"{exe}", "render", "{input}", "-o", "{png}", "--kind", "{kind}",
+                                       "--title", "{title}", "-q"};
+    std::vector<std::string> peer = {"{blender}", "-b", "--factory-startup", "-noaudio", "--python-exit-code", "1",
+                                     "--python", "{script}",
+                                     "--", "{mesh}", "{out}", "{faces}"};
+};
+
+/// Options for run_bench().
+struct BenchOptions {
+    std::string output_dir;          ///< Receives bench.csv/json/md, plot.png and meshes/<name>/ (created).
+    std::vector<int> levels = {0, 1, 2, 3};  ///< Fit levels, each 0..8; may be empty (no fits).
+    double tolerance = 0;            ///< If > 0, `--tolerance T` is appended to every fit command.
+    int jobs = 1;                    ///< Meshes processed at the same time (1..64).
+    double timeout_seconds = 1800;   ///< Wall-clock limit of every child process (> 0).
+    bool pictures = true;            ///< Run the render stage after layout and after each fit.
+    bool peer = true;                ///< Run the QuadriFlow peer when Blender is found.
+    std::string executable;          ///< {exe}: the quadcage executable (required).
+    std::string blender = "blender"; ///< {blender}: path or name on PATH; not found -> peer "not installed".
+    std::string peer_script;         ///< {script}: tools/bench/quadriflow.py; required when the peer runs.
+    StageCommands commands;          ///< Stage command lines (tests substitute fake children).
+    /// Progress lines ("bench [i/n] name: stage (t s)"); called from worker threads, one call at a time.
+    std::function<void(const std::string&)> progress;
+    std::string validate() const;    ///< Empty if valid, else what is wrong.
+};
+
+/// Runs every stage of every input (see the issue): info (exit 3 -> "rejected"), layout, the
+/// layout picture, fit at each level with its deviation picture, and the peer; a crash, timeout or
+/// error of one child is recorded and the run goes on. A failed layout skips that mesh's fits.
+/// Writes each child's stderr to DIR/meshes/<name>/log.txt, info's JSON to .../info.json; writes
+/// the plot (DIR/plot.png) but not the tables (see write_bench_tables()).
+/// \throw InvalidInput if the options are invalid or the output folder cannot be created.
+BenchResult run_bench(const std::vector<BenchInput>& inputs, const BenchOptions& options);
+
+}  // namespace quadcage::bench

@@ -1,0 +1,75 @@
+"""Remesh a mesh with QuadriFlow inside Blender: the peer column of `quadcage bench`.
+
+    blender -b --factory-startup --python-exit-code 1 --python tools/bench/quadriflow.py -- IN.obj OUT.obj TARGET_FACES
+
+Imports IN (OBJ; PLY and STL are accepted too), runs bpy.ops.object.quadriflow_remesh(target_faces=N)
+(blocking when called from Python), exports the result as OBJ (polygons kept) to OUT and writes
+OUT.json with {"seconds": QuadriFlow's own time, "faces_in", "faces_out", "quads_out", "target_faces",
+"blender"}. Exits non-zero with one line on stderr when QuadriFlow fails (Blender then leaves the
+mesh unchanged, i.e. still triangles).
+"""
+import json
+import os
+import sys
+import time
+
+import bpy
+
+
+def fail(message):
+    sys.stderr.write("quadriflow: error: " + message + "\n")
+    sys.stderr.flush()
+    raise SystemExit(1)
+
+
+def main(argv):
+    args = argv[argv.index("--") + 1:] if "--" in argv else []
+    if len(args) != 3:
+        fail("usage: blender -b --python quadriflow.py -- IN OUT TARGET_FACES")
+    src, dst, target = args[0], args[1], int(args[2])
+    if target < 1:
+        fail("TARGET_FACES must be >= 1, got %d" % target)
+
+    # The factory scene holds a cube, a camera and a light: remove them.
+    for obj in list(bpy.data.objects):
+        bpy.data.objects.remove(obj, do_unlink=True)
+
+    ext = os.path.splitext(src)[1].lower()
+    if ext == ".obj":
+        bpy.ops.wm.obj_import(filepath=src)
+    elif ext == ".ply":
+        bpy.ops.import_mesh.ply(filepath=src)
+    elif ext == ".stl":
+        bpy.ops.import_mesh.stl(filepath=src)
+    else:
+        fail("unsupported input %s (convert to OBJ first)" % src)
+    meshes = [o for o in bpy.context.scene.objects if o.type == "MESH"]
+    if len(meshes) != 1:
+        fail("expected one mesh object after importing %s, found %d" % (src, len(meshes)))
+    obj = meshes[0]
+    bpy.context.view_layer.objects.active = obj
+    obj.select_set(True)
+    faces_in = len(obj.data.polygons)
+
+    start = time.perf_counter()
+    bpy.ops.object.quadriflow_remesh(target_faces=target, use_mesh_symmetry=False, use_preserve_sharp=False,
+                                     use_preserve_boundary=False, smooth_normals=False, seed=0)
+    seconds = time.perf_counter() - start
+
+    obj = bpy.context.view_layer.objects.active
+    polys = obj.data.polygons
+    quads = sum(1 for p in polys if len(p.vertices) == 4)
+    if len(polys) > 0 and quads == 0:
+        fail("QuadriFlow failed: the mesh is unchanged (%d faces, none a quad)" % len(polys))
+
+    bpy.ops.wm.obj_export(filepath=dst, export_selected_objects=True, export_uv=False, export_normals=False,
+                          export_materials=False, export_triangulated_mesh=False, apply_modifiers=False)
+    with open(dst + ".json", "w") as f:
+        json.dump({"seconds": seconds, "faces_in": faces_in, "faces_out": len(polys), "quads_out": quads,
+                   "target_faces": target, "blender": bpy.app.version_string}, f)
+        f.write("\n")
+    print("quadriflow: %d faces in, %d faces out (%d quads) for target %d in %.3f s"
+          % (faces_in, len(polys), quads, target, seconds))
+
+
+main(sys.argv)
