@@ -33,6 +33,7 @@ int main(int argc, char** argv) {
     o.threads = threads;
     if (const char* w = std::getenv("FIT_BENCH_S2I")) o.surface_to_input_weight = std::atof(w);
     if (const char* w = std::getenv("FIT_BENCH_SAMPLES")) o.area_samples = std::atoi(w);
+    if (const char* w = std::getenv("FIT_BENCH_ROUNDS")) o.outer_iterations = std::atoi(w);
     if (std::getenv("FIT_BENCH_VERBOSE")) o.progress = [](const std::string& s) { std::printf("  %s\n", s.c_str()); };
     const fit::FitResult r = fit::fit_surface(L, o);
     std::printf("level ctrl  rel_rms    rel_haus   in->surf   surf->in   unfit_rms  ratio  rounds  param   eval    closest solve   total   stop\n");
