@@ -409,7 +409,12 @@ LevelReport fit_level(const Context& ctx, const LevelTopology& topo, subdiv::Lim
         so.logging_type = ceres::SILENT;
         so.minimizer_progress_to_stdout = false;
         ceres::Solver::Summary summary;
+        const double setup = seconds_since(clock);
         ceres::Solve(so, &problem, &summary);
+        ctx.progress(format("  ceres: set-up %.2f s, preprocess %.2f s, jacobians %.2f s", setup,
+                            summary.preprocessor_time_in_seconds, summary.jacobian_evaluation_time_in_seconds) +
+                     format(", linear solver %.2f s, total %.2f s", summary.linear_solver_time_in_seconds,
+                            summary.total_time_in_seconds));
         sec.solve += seconds_since(clock);
         rep.iterations = round + 1;
         rep.solver_iterations += static_cast<int>(summary.iterations.size());

@@ -36,12 +36,12 @@ int main(int argc, char** argv) {
     if (const char* w = std::getenv("FIT_BENCH_ROUNDS")) o.outer_iterations = std::atoi(w);
     if (std::getenv("FIT_BENCH_VERBOSE")) o.progress = [](const std::string& s) { std::printf("  %s\n", s.c_str()); };
     const fit::FitResult r = fit::fit_surface(L, o);
-    std::printf("level ctrl  rel_rms    rel_haus   in->surf   surf->in   unfit_rms  ratio  rounds  param   eval    closest solve   total   stop\n");
+    std::printf("level ctrl  rel_rms    rel_haus   in->surf   surf->in   unfit_rms  ratio  rounds/its param   eval    closest solve   total   stop\n");
     for (const auto& l : r.levels)
-        std::printf("%5d %5d  %.3e  %.3e  %.3e  %.3e  %.3e  %5.3f  %6d  %6.3f  %6.3f  %6.3f  %6.3f  %6.3f  %s\n", l.level,
+        std::printf("%5d %5d  %.3e  %.3e  %.3e  %.3e  %.3e  %5.3f  %3d/%-4d %6.3f  %6.3f  %6.3f  %6.3f  %6.3f  %s\n", l.level,
                     l.control_points, l.relative.rms, l.relative.hausdorff, l.relative.input_to_surface.rms,
                     l.relative.surface_to_input.rms, l.unfitted_relative_rms,
-                    l.relative.rms / l.unfitted_relative_rms, l.iterations, l.seconds.parameterization,
+                    l.relative.rms / l.unfitted_relative_rms, l.iterations, l.solver_iterations, l.seconds.parameterization,
                     l.seconds.evaluation, l.seconds.closest_points, l.seconds.solve, l.seconds.total,
                     l.stop_reason.c_str());
     if (argc > 5) {
