@@ -8,6 +8,7 @@
 #include <unordered_set>
 
 #include "quadcage/core/errors.h"
+#include "detail/topology.h"
 
 // OPENSUBDIV_VERSION is a bare token (v3_5_0); spell it as a string.
 #define QC_STRINGIFY2(x) #x
@@ -37,8 +38,11 @@ using PrimvarRefiner = Far::PrimvarRefinerReal<double>;
 
 constexpr long long kMaxRefinedQuads = 1LL << 28;
 
-/// Throws InvalidInput unless cage is a simple quad mesh with finite points and levels is in range.
-void validate(const QuadMesh& cage, int levels, const char* who) {
+}  // namespace
+
+namespace detail {
+
+void validate_quad_mesh(const QuadMesh& cage, int levels, const char* who) {
     const std::string prefix = std::string(who) + ": ";
     if (levels < 0 || levels > kMaxRefinementLevel)
         throw InvalidInput(prefix + "refinement level " + std::to_string(levels) +
@@ -90,8 +94,6 @@ void validate(const QuadMesh& cage, int levels, const char* who) {
                                " is used by no quad; remove unused vertices from the cage");
 }
 
-/// A Catmull-Clark refiner for the cage, refined uniformly `levels` times. `for_limit` keeps the
-/// full topology of the last level, which PrimvarRefiner::Limit needs.
 std::unique_ptr<Far::TopologyRefiner> make_refiner(const QuadMesh& cage, int levels,
                                                    bool for_limit) {
     std::vector<int> verts_per_face(cage.quads.size(), 4);
@@ -122,6 +124,12 @@ std::unique_ptr<Far::TopologyRefiner> make_refiner(const QuadMesh& cage, int lev
     return refiner;
 }
 
+}  // namespace detail
+
+namespace {
+
+using detail::make_refiner;
+
 /// Positions of every vertex of the last refinement level.
 std::vector<Point> refined_points(const Far::TopologyRefiner& refiner, const QuadMesh& cage) {
     std::vector<Point> src(cage.points.size());
@@ -145,7 +153,7 @@ std::vector<Vec3> to_vec3(const std::vector<Point>& pts) {
 }  // namespace
 
 QuadMesh refine_uniform(const QuadMesh& cage, int levels) {
-    validate(cage, levels, "refine_uniform");
+    detail::validate_quad_mesh(cage, levels, "refine_uniform");
     if (levels == 0) return cage;
     const auto refiner = make_refiner(cage, levels, false);
     const Far::TopologyLevel& last = refiner->GetLevel(levels);
@@ -162,7 +170,7 @@ QuadMesh refine_uniform(const QuadMesh& cage, int levels) {
 }
 
 std::vector<Vec3> limit_positions(const QuadMesh& cage, int levels) {
-    validate(cage, levels, "limit_positions");
+    detail::validate_quad_mesh(cage, levels, "limit_positions");
     const auto refiner = make_refiner(cage, levels, true);
     const std::vector<Point> points = refined_points(*refiner, cage);
     std::vector<Point> limit(points.size());
@@ -175,7 +183,7 @@ std::string opensubdiv_version() {
     for (int i = 0; i < 8; ++i)
         cube.points.push_back({i & 1 ? 1.0 : -1.0, i & 2 ? 1.0 : -1.0, i & 4 ? 1.0 : -1.0});
     cube.quads = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
-    const auto refiner = make_refiner(cube, 1, false);
+    const auto refiner = detail::make_refiner(cube, 1, false);
     return std::string("OpenSubdiv ") + QC_STRINGIFY(OPENSUBDIV_VERSION) + " (cube refined: " +
            std::to_string(refiner->GetLevel(1).GetNumFaces()) + " faces)";
 }

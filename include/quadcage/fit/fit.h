@@ -1,0 +1,201 @@
+#pragma once
+// Least-squares fit of a Catmull-Clark surface to a triangle mesh through its quad layout
+// (design.md §5), and the one definition of fit error (design.md §6).
+
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "quadcage/core/mesh.h"
+#include "quadcage/layout/quad_layout.h"
+#include "quadcage/subdiv/cage.h"
+#include "quadcage/subdiv/catmull_clark.h"
+#include "quadcage/subdiv/limit_surface.h"
+
+namespace quadcage::fit {
+
+/// What fit_surface() aims for.
+enum class FitMode {
+    Level,      ///< Fit the control points of the cage refined exactly FitOptions::level times.
+    Tolerance,  ///< Fit levels 0, 1, 2, ... until the relative symmetric RMS <= FitOptions::tolerance
+                ///< or FitOptions::max_level is reached; each level starts from the better (by a quick
+                ///< symmetric RMS) of the previous fit refined once and the parametric positions.
+};
+
+/// Options for fit_surface(). Distances are relative to the bounding-box diagonal of the mesh.
+struct FitOptions {
+    FitMode mode = FitMode::Level;
+    int level = 3;             ///< Level mode: refinements of the cage (0 = the cage corners), 0..kMaxFitLevel.
+    double tolerance = 1e-3;   ///< Tolerance mode: target relative symmetric RMS; both modes: threshold
+                               ///< of LevelReport::within_tolerance. > 0.
+    int max_level = 5;         ///< Tolerance mode: highest level tried, 0..kMaxFitLevel.
+    int outer_iterations = 8;  ///< Solve / correspondence-update rounds per level, >= 1.
+    int solver_iterations = 10;  ///< Ceres iterations per solve, >= 1.
+    double min_improvement = 2e-3;  ///< Stop a level when a round improves the data RMS by less than
+                                    ///< this fraction, in [0, 1).
+    double smoothness_start = 1e-3;  ///< Weight of the control-net Laplacian term relative to the data
+                                     ///< term in the first round, >= 0 ...
+    double smoothness_end = 1e-6;    ///< ... decreasing geometrically to this in the last round, >= 0.
+    double surface_to_input_weight = 0.25;  ///< Weight of the surface-to-input (point-to-plane) term
+                                            ///< relative to the input-to-surface term, >= 0.
+    double huber_scale = 1e-2;   ///< Huber loss threshold (relative distance), > 0; residuals above it
+                                 ///< count linearly (outliers of scans).
+    int area_samples = 20000;    ///< Input points sampled uniformly by area for the data term (besides
+                                 ///< the mesh vertices), >= 0.
+    int max_data_points = 400000;  ///< Cap on data points (vertices + samples); vertices are subsampled
+                                   ///< deterministically above it. >= 1.
+    int surface_samples_per_face = 9;  ///< Limit-surface samples per control face for the
+                                       ///< surface-to-input term (a k x k grid, k = ceil(sqrt)), >= 1.
+    int error_samples = 100000;  ///< Area samples per side when measuring the error (design.md §6), >= 1.
+    bool measure_unfitted = false;  ///< Also measure the error with the control points at their
+                                    ///< parametric positions (LevelReport::unfitted_*).
+    int irregular_level = 6;     ///< OpenSubdiv approximation level at extraordinary vertices (1..10).
+    unsigned seed = 7;           ///< Seed of every random sample (results are deterministic).
+    int threads = 0;             ///< Threads for Ceres, closest points and evaluation; 0 = all cores.
+    std::function<void(const std::string&)> progress;  ///< Called with a short line per stage; may be empty.
+    std::string validate() const;  ///< Empty if valid, else what is wrong.
+};
+
+/// Largest level fit_surface() accepts (4^5 * (40g-40) faces is plenty for scans).
+constexpr int kMaxFitLevel = 7;
+
+/// RMS, mean and maximum of a set of distances.
+struct DistanceStats {
+    double rms = 0;
+    double mean = 0;
+    double max = 0;
+};
+
+/// Fit error as defined in design.md §6, in one unit (absolute or relative to the diagonal).
+struct FitError {
+    DistanceStats input_to_surface;  ///< From area samples + vertices of the input to the surface.
+    DistanceStats surface_to_input;  ///< From area samples + tessellation vertices of the surface to the input.
+    double rms = 0;        ///< RMS over both sample sets together.
+    double hausdorff = 0;  ///< The larger of the two maxima.
+};
+
+/// Wall-clock seconds by stage.
+struct StageSeconds {
+    double parameterization = 0;  ///< Inverse patch maps, initial control points, samples.
+    double evaluation = 0;        ///< Limit stencils, evaluation and projection of correspondences.
+    double closest_points = 0;    ///< Embree closest-point queries on the input.
+    double solve = 0;             ///< Ceres (problem set-up and solve).
+    double total = 0;             ///< The whole level, including error measurement.
+};
+
+/// What happened at one level.
+struct LevelReport {
+    int level = 0;
+    int control_points = 0;       ///< Free control points (8g-8 cage corners at level 0).
+    FitError absolute;
+    FitError relative;            ///< absolute / diagonal.
+    double diagonal = 0;          ///< Bounding-box diagonal of the mesh.
+    double within_tolerance = 0;  ///< Share of input samples within FitOptions::tolerance (relative).
+    int iterations = 0;           ///< Solve / correspondence rounds run.
+    int solver_iterations = 0;    ///< Ceres iterations summed over the rounds.
+    std::string stop_reason;      ///< Why the rounds stopped.
+    StageSeconds seconds;
+    double unfitted_relative_rms = -1;        ///< With FitOptions::measure_unfitted, else -1.
+    double unfitted_relative_hausdorff = -1;  ///< With FitOptions::measure_unfitted, else -1.
+};
+
+/// A fitted Catmull-Clark surface: the control mesh (level >= 1 as OpenSubdiv sees it) and its
+/// limit. Cheap to copy (the evaluator is shared and immutable). Evaluation is thread-safe.
+class FittedSurface {
+public:
+    FittedSurface() = default;
+    /// \param control_mesh simple closed quad mesh at cage level max(level, 1).
+    /// \param level the fitted level (0 = the cage corners were the variables).
+    /// \param cage_quads number of level-0 cage quads (control_mesh has cage_quads * 4^max(level,1) quads).
+    /// \throw InvalidInput if the mesh is not a simple quad mesh or the counts disagree.
+    FittedSurface(const subdiv::QuadMesh& control_mesh, int level, int cage_quads, int irregular_level = 6);
+    /// Wraps an evaluator that nobody modifies any more (same counts as above).
+    /// \throw InvalidInput if surface is null or the counts disagree.
+    FittedSurface(std::shared_ptr<const subdiv::LimitSurface> surface, int level, int cage_quads);
+
+    bool empty() const { return !surface_; }
+    int level() const { return level_; }
+    int cage_quads() const { return cage_quads_; }
+    /// The control mesh whose limit is the fitted surface (simple, manifold quads).
+    const subdiv::QuadMesh& control_mesh() const;
+    /// Limit position, derivatives and normal at (face, u, v) of control_mesh().
+    /// \throw InvalidInput if the face is out of range or the surface is empty.
+    subdiv::LimitPoint evaluate(const subdiv::FacePoint& p) const;
+    /// The same at (cage quad, u, v) of the level-0 cage (the layout's patch parameterisation).
+    subdiv::LimitPoint evaluate_on_cage(const subdiv::FacePoint& cage_point) const;
+    /// The face point of control_mesh() for a point of the level-0 cage.
+    subdiv::FacePoint from_cage(const subdiv::FacePoint& cage_point) const;
+    /// The underlying evaluator (stencils, projection, tessellation). \throw InvalidInput if empty.
+    const subdiv::LimitSurface& limit() const;
+
+private:
+    std::shared_ptr<const subdiv::LimitSurface> surface_;
+    int level_ = 0;
+    int cage_quads_ = 0;
+};
+
+/// The result of fit_surface().
+struct FitResult {
+    std::vector<LevelReport> levels;  ///< One per level fitted, in order.
+    FittedSurface surface;            ///< The surface of the last level fitted.
+    /// Level 0 only (levels.back().level == 0): the fitted cage corners, in the layout cage's order
+    /// (the cage with these points refines once to surface.control_mesh()). Empty otherwise.
+    std::vector<Vec3> fitted_corners;
+    bool tolerance_met = false;       ///< Tolerance mode: the last level met the tolerance.
+    /// Tolerance mode: a level that measured worse than the one before it (also when fitted from
+    /// the previous fit), which ended the search; not in `levels`, and `surface` is the previous one.
+    std::optional<LevelReport> rejected_level;
+    std::string message;              ///< One line: which level, and why the fit stopped there.
+};
+
+/// Fits the control points of the layout's cage refined K times so that the Catmull-Clark limit
+/// surface matches layout.mesh (design.md §5; Hoppe et al. 1994, Marinov & Kobbelt 2005): data
+/// terms from area-uniform samples + vertices to the surface (correspondences from the patch
+/// parameterisation, then re-projected onto the current surface between solves) and from limit
+/// samples to the mesh (Embree closest points, point-to-plane), a control-net Laplacian that fades
+/// out, Huber loss; Ceres (sparse normal Cholesky, analytic Jacobians from the limit stencils).
+/// Initial control points sit at their parametric positions on the mesh. Errors per design.md §6.
+/// Deterministic for fixed options (thread count included or not).
+/// \pre layout passes layout::verify_quad_layout() (its cage is a closed 2-manifold, its triangles
+///      carry patch coordinates in [0,1]^2).
+/// \throw InvalidInput if options are invalid, or the layout is inconsistent (sizes, patch
+///        indices, cage check, coordinates outside [0,1]).
+FitResult fit_surface(const layout::QuadLayout& layout, const FitOptions& options = {});
+
+/// Options for measure_fit_error().
+struct MeasureOptions {
+    int samples = 100000;      ///< Area samples per side (plus all vertices), >= 1.
+    /// Tessellation that seeds the projections and carries the surface samples, in segments per side
+    /// of a level-0 cage quad (so every level samples the same parameter points; each control face
+    /// gets max(1, search_segments / 2^max(level,1))), >= 1.
+    int search_segments = 32;
+    double tolerance = 1e-3;   ///< Relative threshold for within_tolerance, > 0.
+    unsigned seed = 7;
+    int threads = 0;           ///< 0 = all cores.
+    std::string validate() const;  ///< Empty if valid, else what is wrong.
+};
+
+/// The error of a fitted surface against a mesh, with the share of input samples within tolerance.
+struct ErrorMeasurement {
+    FitError absolute;
+    FitError relative;
+    double diagonal = 0;
+    double within_tolerance = 0;
+};
+
+/// Measures design.md §6 both ways: input samples (uniform by area + all used vertices) projected
+/// onto the limit surface (seeded from a tessellation, refined by Newton steps on the exact
+/// surface), and limit-surface samples (uniform by area of a tessellation, evaluated exactly, plus
+/// its vertices) to their Embree closest points on the mesh.
+/// \throw InvalidInput if options are invalid, the mesh has no triangles or the surface is empty.
+ErrorMeasurement measure_fit_error(const Mesh& mesh, const FittedSurface& surface, const MeasureOptions& options = {});
+
+/// Distance from each point to the limit surface (closest point as in measure_fit_error()).
+/// \throw InvalidInput if the surface is empty or a point is not finite.
+/// search_segments as in MeasureOptions.
+std::vector<double> distances_to_surface(const FittedSurface& surface, const std::vector<Vec3>& points,
+                                         int search_segments = 32, int threads = 0);
+
+}  // namespace quadcage::fit

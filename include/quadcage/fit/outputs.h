@@ -1,0 +1,83 @@
+#pragma once
+// The files of `quadcage fit`: fitted_cage.obj, limit.ply, deviation.ply, report.json (issue #5).
+// Every writer is atomic (temporary file + rename) and independent of the CLI.
+
+#include <string>
+#include <vector>
+
+#include "quadcage/core/mesh.h"
+#include "quadcage/fit/fit.h"
+
+namespace quadcage::fit {
+
+/// Options for the limit-surface tessellation written to limit.ply.
+struct LimitPlyOptions {
+    double error_fraction = 0.1;          ///< Tessellation RMS error must be below this fraction of the
+                                          ///< fit's absolute symmetric RMS, in (0, 1].
+    long long max_triangles = 20000000;   ///< Upper bound on the tessellation size, >= 2 * faces.
+    int min_segments = 2;                 ///< Fewest segments per face side, >= 1.
+    int estimate_faces = 512;             ///< Faces (evenly spread) on which the error is estimated, >= 1.
+    int estimate_points_per_face = 32;    ///< Random points per such face, >= 1.
+    unsigned seed = 11;
+    int threads = 0;                      ///< 0 = all cores.
+    std::string validate() const;         ///< Empty if valid, else what is wrong.
+};
+
+/// A tessellation density and its measured error.
+struct TessellationChoice {
+    int segments = 0;          ///< Segments per face side (each face becomes 2 * segments^2 triangles).
+    long long triangles = 0;
+    double rms_error = 0;      ///< RMS of |tessellation - limit| at the same (u, v), random points (absolute).
+    double max_error = 0;      ///< Largest such distance seen.
+    double target = 0;         ///< The RMS it had to stay below (absolute).
+    bool met = false;          ///< rms_error <= target (false if max_triangles stopped the refinement).
+};
+
+/// The error of a tessellation with `segments` per side: distance between the flat triangles and
+/// the limit surface at the same parameter, at random points of evenly spread faces (an upper bound
+/// on the distance from the triangles to the surface).
+/// \throw InvalidInput if segments < 1, options are invalid or the surface is empty.
+TessellationChoice tessellation_error(const FittedSurface& surface, int segments, const LimitPlyOptions& options = {});
+
+/// The coarsest uniform tessellation (error ~ 1/segments^2, refined until measured) whose RMS error
+/// is at most options.error_fraction * fit_rms, within options.max_triangles.
+/// \throw InvalidInput if fit_rms is not positive and finite, options are invalid or the surface is empty.
+TessellationChoice choose_tessellation(const FittedSurface& surface, double fit_rms, const LimitPlyOptions& options = {});
+
+/// Writes a quad mesh as OBJ (`v` with 17 significant digits, `f` with 4 one-based indices).
+/// \throw InvalidInput (naming path) if the file cannot be written.
+void write_quad_obj(const std::string& path, const subdiv::QuadMesh& mesh);
+
+/// Writes the tessellation of `choice.segments` of the surface as binary PLY with the per-vertex
+/// `float distance` to `input` (exact closest point).
+/// \throw InvalidInput if the file cannot be written or the input mesh is invalid.
+void write_limit_ply(const std::string& path, const Mesh& input, const FittedSurface& surface,
+                     const TessellationChoice& choice, int threads = 0);
+
+/// Writes `input` as binary PLY with the per-vertex `float distance` to the fitted limit surface.
+/// \throw InvalidInput if the file cannot be written.
+void write_deviation_ply(const std::string& path, const Mesh& input, const FittedSurface& surface, int threads = 0);
+
+/// report.json (issue #5): mode, tolerance, message, and per level {level, control_points,
+/// absolute: {input_to_surface: {rms, mean, max}, surface_to_input: {...}, rms, hausdorff},
+/// relative: {same}, within_tolerance, iterations, solver_iterations, stop_reason,
+/// seconds: {parameterization, evaluation, closest_points, solve, total}} (+ unfitted figures when
+/// measured), `rejected_level` (same shape) if the tolerance search stopped at a level that did not
+/// improve, and the limit tessellation if given.
+std::string fit_report_json(const FitResult& result, const FitOptions& options,
+                            const TessellationChoice* tessellation = nullptr);
+
+/// What write_fit_outputs() wrote.
+struct FitOutputs {
+    TessellationChoice tessellation;
+    std::vector<std::string> files;  ///< Paths written, in order.
+};
+
+/// Writes fitted_cage.obj, limit.ply, deviation.ply and report.json into `dir` (created if missing).
+/// `input` is the mesh the user gave (deviation.ply carries its vertices; the fit itself was done
+/// on the layout's copy of the same surface).
+/// \throw InvalidInput if the directory or a file cannot be written, or the result is empty.
+FitOutputs write_fit_outputs(const std::string& dir, const Mesh& input, const FitResult& result,
+                             const FitOptions& options, const LimitPlyOptions& ply_options = {});
+
+}  // namespace quadcage::fit

@@ -1,0 +1,41 @@
+#pragma once
+// The residuals of the fit as Ceres cost functions with analytic Jacobians (private to src/fit).
+//
+// Every residual here is affine in a weighted sum of control points y = sum_i w_i x_i (a limit
+// stencil, possibly composed with the level-0 -> level-1 map): r = A y - b with A a 3x3 or 1x3
+// matrix, so dr/dx_i = w_i A exactly.
+
+#include <ceres/cost_function.h>
+
+#include <array>
+#include <vector>
+
+#include "quadcage/core/mesh.h"
+
+namespace quadcage::fit::detail {
+
+/// r = A (sum_i w_i x_i) - b over one 3-vector parameter block per weight.
+class StencilCost final : public ceres::CostFunction {
+public:
+    /// \param rows 1 or 3 (rows of A, row-major in `a`).
+    StencilCost(std::vector<double> weights, int rows, const std::array<double, 9>& a, const std::array<double, 3>& b);
+    bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override;
+
+private:
+    std::vector<double> weights_;
+    int rows_;
+    std::array<double, 9> a_;
+    std::array<double, 3> b_;
+};
+
+/// scale * (S - p): point-to-point distance of the limit point S = sum w_i x_i to a data point p.
+ceres::CostFunction* point_to_point_cost(std::vector<double> weights, const Vec3& p, double scale);
+
+/// scale * n . (S - q): signed distance of S to the plane through q with unit normal n.
+ceres::CostFunction* point_to_plane_cost(std::vector<double> weights, const Vec3& q, const Vec3& n, double scale);
+
+/// scale * sum w_i x_i with weights summing to 0: a Laplacian of the control net (x_i minus the mean
+/// of its neighbours) or any other linear smoothness measure.
+ceres::CostFunction* smoothness_cost(std::vector<double> weights, double scale);
+
+}  // namespace quadcage::fit::detail

@@ -1,0 +1,49 @@
+#pragma once
+// Error measurement shared by fit_surface() and measure_fit_error() (private to src/fit).
+
+#include <chrono>
+#include <vector>
+
+#include "quadcage/accel/closest_point.h"
+#include "quadcage/fit/fit.h"
+
+namespace quadcage::fit::detail {
+
+/// Closest points on a limit surface: a tessellation with `segments` per face side seeds each
+/// query through an Embree index; Newton steps on the exact surface (LimitSurface::project) refine it.
+class SurfaceProjector {
+public:
+    SurfaceProjector(const subdiv::LimitSurface& surface, int segments, int threads);
+    /// The surface point closest to each of `points` (parallel; deterministic).
+    std::vector<subdiv::FacePoint> project(const std::vector<Vec3>& points) const;
+    const subdiv::LimitTessellation& tessellation() const { return tessellation_; }
+    /// The (face, u, v) of a point given by barycentric weights on a tessellation triangle.
+    subdiv::FacePoint param_of(int triangle, const std::array<double, 3>& bary) const;
+
+private:
+    const subdiv::LimitSurface& surface_;
+    subdiv::LimitTessellation tessellation_;
+    accel::ClosestPointIndex index_;
+    int threads_;
+};
+
+/// Time spent in the two query stages of a measurement.
+struct MeasureTimes {
+    double evaluation = 0;
+    double closest_points = 0;
+};
+
+/// Segments per control face for a tessellation with `cage_segments` per level-0 cage quad side.
+int face_segments(int cage_segments, int level);
+
+/// measure_fit_error() with a ready index of the mesh; `level` is the surface's fit level.
+ErrorMeasurement measure(const Mesh& mesh, const accel::ClosestPointIndex& mesh_index, const subdiv::LimitSurface& surface,
+                         int level, const MeasureOptions& options, MeasureTimes* times = nullptr);
+
+/// RMS, mean and max of distances, summed in index order.
+DistanceStats stats_of(const std::vector<double>& d);
+
+/// Seconds since `start`.
+double seconds_since(const std::chrono::steady_clock::time_point& start);
+
+}  // namespace quadcage::fit::detail

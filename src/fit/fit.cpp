@@ -1,0 +1,620 @@
+#include "quadcage/fit/fit.h"
+
+#include <ceres/ceres.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <memory>
+#include <set>
+
+#include "detail/costs.h"
+#include "detail/measure.h"
+#include "detail/patch_locator.h"
+#include "detail/sampling.h"
+#include "quadcage/accel/closest_point.h"
+#include "quadcage/core/errors.h"
+#include "quadcage/core/parallel.h"
+
+namespace quadcage::fit {
+
+// ---------------------------------------------------------------------------------------------
+// FittedSurface
+
+FittedSurface::FittedSurface(const subdiv::QuadMesh& control_mesh, int level, int cage_quads, int irregular_level) {
+    subdiv::LimitSurfaceOptions o;
+    o.irregular_level = irregular_level;
+    *this = FittedSurface(std::make_shared<const subdiv::LimitSurface>(control_mesh, o), level, cage_quads);
+}
+
+FittedSurface::FittedSurface(std::shared_ptr<const subdiv::LimitSurface> surface, int level, int cage_quads)
+    : surface_(std::move(surface)), level_(level), cage_quads_(cage_quads) {
+    if (!surface_) throw InvalidInput("FittedSurface: no surface");
+    if (level < 0 || level > kMaxFitLevel || cage_quads < 1)
+        throw InvalidInput("FittedSurface: level must be in [0, " + std::to_string(kMaxFitLevel) +
+                           "] and cage_quads >= 1");
+    const long long expected = static_cast<long long>(cage_quads) << (2 * std::max(level, 1));
+    if (surface_->num_faces() != expected)
+        throw InvalidInput("FittedSurface: the control mesh has " + std::to_string(surface_->num_faces()) +
+                           " quads, expected " + std::to_string(expected) + " for level " + std::to_string(level) +
+                           " of a " + std::to_string(cage_quads) + "-quad cage");
+}
+
+const subdiv::LimitSurface& FittedSurface::limit() const {
+    if (!surface_) throw InvalidInput("FittedSurface: the surface is empty");
+    return *surface_;
+}
+
+const subdiv::QuadMesh& FittedSurface::control_mesh() const { return limit().control_mesh(); }
+
+subdiv::LimitPoint FittedSurface::evaluate(const subdiv::FacePoint& p) const { return limit().evaluate(p); }
+
+subdiv::FacePoint FittedSurface::from_cage(const subdiv::FacePoint& cage_point) const {
+    if (cage_point.face < 0 || cage_point.face >= cage_quads_)
+        throw InvalidInput("FittedSurface: cage quad " + std::to_string(cage_point.face) + " is out of range");
+    return subdiv::descend(cage_point, std::max(level_, 1));
+}
+
+subdiv::LimitPoint FittedSurface::evaluate_on_cage(const subdiv::FacePoint& cage_point) const {
+    return limit().evaluate(from_cage(cage_point));
+}
+
+// ---------------------------------------------------------------------------------------------
+// Options
+
+std::string FitOptions::validate() const {
+    auto finite_nonneg = [](double x) { return std::isfinite(x) && x >= 0; };
+    if (level < 0 || level > kMaxFitLevel)
+        return "level must be in [0, " + std::to_string(kMaxFitLevel) + "], got " + std::to_string(level);
+    if (max_level < 0 || max_level > kMaxFitLevel)
+        return "max_level must be in [0, " + std::to_string(kMaxFitLevel) + "], got " + std::to_string(max_level);
+    if (!(tolerance > 0) || !std::isfinite(tolerance)) return "tolerance must be positive and finite";
+    if (outer_iterations < 1) return "outer_iterations must be >= 1";
+    if (solver_iterations < 1) return "solver_iterations must be >= 1";
+    if (!(min_improvement >= 0 && min_improvement < 1)) return "min_improvement must be in [0, 1)";
+    if (!finite_nonneg(smoothness_start) || !finite_nonneg(smoothness_end))
+        return "smoothness weights must be finite and >= 0";
+    if (!finite_nonneg(surface_to_input_weight)) return "surface_to_input_weight must be finite and >= 0";
+    if (!(huber_scale > 0) || !std::isfinite(huber_scale)) return "huber_scale must be positive and finite";
+    if (area_samples < 0) return "area_samples must be >= 0";
+    if (max_data_points < 1) return "max_data_points must be >= 1";
+    if (surface_samples_per_face < 1) return "surface_samples_per_face must be >= 1";
+    if (error_samples < 1) return "error_samples must be >= 1";
+    if (irregular_level < 1 || irregular_level > 10) return "irregular_level must be in [1, 10]";
+    if (threads < 0) return "threads must be >= 0";
+    return {};
+}
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using detail::seconds_since;
+/// A sparse linear combination of the free variables.
+using Combo = std::vector<std::pair<int, double>>;
+
+void validate_layout(const layout::QuadLayout& layout) {
+    const Mesh& mesh = layout.mesh;
+    const int nt = mesh.num_triangles(), nq = layout.cage.num_quads();
+    if (nt == 0) throw InvalidInput("fit: the layout mesh has no triangles");
+    if (static_cast<int>(layout.triangle_patch.size()) != nt || static_cast<int>(layout.corner_uv.size()) != nt)
+        throw InvalidInput("fit: the layout has " + std::to_string(layout.triangle_patch.size()) + " patch labels and " +
+                           std::to_string(layout.corner_uv.size()) + " uv triples for " + std::to_string(nt) + " triangles");
+    if (const std::string why = subdiv::check_cage(layout.cage); !why.empty())
+        throw InvalidInput("fit: invalid layout cage: " + why);
+    std::vector<int> per_patch(nq, 0);
+    for (int t = 0; t < nt; ++t) {
+        const int q = layout.triangle_patch[t];
+        if (q < 0 || q >= nq)
+            throw InvalidInput("fit: triangle " + std::to_string(t) + " is in patch " + std::to_string(q) + " of " +
+                               std::to_string(nq));
+        ++per_patch[q];
+        for (int k = 0; k < 3; ++k) {
+            const int v = mesh.triangles[t][k];
+            if (v < 0 || v >= mesh.num_vertices() || !is_finite(mesh.points[v]))
+                throw InvalidInput("fit: triangle " + std::to_string(t) + " has an invalid or non-finite vertex");
+            for (double x : layout.corner_uv[t][k])
+                if (!(x >= -1e-9 && x <= 1 + 1e-9))
+                    throw InvalidInput("fit: triangle " + std::to_string(t) + " has patch coordinates outside [0,1]");
+        }
+    }
+    for (int q = 0; q < nq; ++q)
+        if (per_patch[q] == 0) throw InvalidInput("fit: patch " + std::to_string(q) + " has no triangles");
+}
+
+/// The control mesh of one level and how its points depend on the free variables.
+struct LevelTopology {
+    int level = 0;
+    int mesh_level = 1;                 ///< max(level, 1): the level OpenSubdiv sees.
+    subdiv::QuadMesh mesh;              ///< Level mesh_level control mesh (points: parametric or fitted).
+    std::vector<subdiv::Stencil> map;   ///< Level 0: level-1 point -> cage corners. Empty otherwise.
+    int num_vars = 0;
+
+    std::vector<Vec3> expand(const std::vector<Vec3>& vars) const {
+        if (map.empty()) return vars;
+        std::vector<Vec3> out(map.size());
+        for (size_t i = 0; i < map.size(); ++i)
+            for (const auto& [c, w] : map[i]) out[i] += vars[c] * w;
+        return out;
+    }
+
+    /// sum_k weights[k] * point[indices[k]] as a combination of the variables.
+    Combo compose(const std::vector<int>& indices, const std::vector<double>& weights) const {
+        Combo out;
+        if (map.empty()) {
+            out.reserve(indices.size());
+            for (size_t k = 0; k < indices.size(); ++k) out.push_back({indices[k], weights[k]});
+            return out;
+        }
+        std::map<int, double> acc;
+        for (size_t k = 0; k < indices.size(); ++k)
+            for (const auto& [c, w] : map[indices[k]]) acc[c] += weights[k] * w;
+        out.assign(acc.begin(), acc.end());
+        return out;
+    }
+};
+
+LevelTopology make_topology(const subdiv::CageRefinement& level1, int level) {
+    LevelTopology t;
+    t.level = level;
+    t.mesh_level = std::max(level, 1);
+    if (level == 0) {
+        t.mesh = level1.level1;
+        t.map = level1.stencils;
+        int corners = 0;
+        for (const auto& s : level1.stencils)
+            for (const auto& [c, w] : s) corners = std::max(corners, c + 1);
+        t.num_vars = corners;
+    } else {
+        t.mesh = subdiv::refine_uniform(level1.level1, level - 1);
+        t.num_vars = t.mesh.num_vertices();
+    }
+    return t;
+}
+
+/// The cage-level (quad, u, v) of every vertex of the level-L mesh (children keep their parent's
+/// orientation, so the base-4 digits of a face index give its cell in the quad's 2^L grid).
+std::vector<subdiv::FacePoint> vertex_params(const subdiv::QuadMesh& mesh, int L) {
+    std::vector<subdiv::FacePoint> out(mesh.points.size());
+    std::vector<char> seen(mesh.points.size(), 0);
+    const int cells = 1 << L;
+    for (int f = 0; f < mesh.num_quads(); ++f) {
+        const int q = f >> (2 * L);
+        int i = 0, j = 0;
+        for (int d = L - 1; d >= 0; --d) {
+            const int k = (f >> (2 * d)) & 3;
+            i = 2 * i + (k == 1 || k == 2);
+            j = 2 * j + (k == 2 || k == 3);
+        }
+        const int di[4] = {0, 1, 1, 0}, dj[4] = {0, 0, 1, 1};
+        for (int k = 0; k < 4; ++k) {
+            const int v = mesh.quads[f][k];
+            if (seen[v]) continue;
+            seen[v] = 1;
+            out[v] = {q, double(i + di[k]) / cells, double(j + dj[k]) / cells};
+        }
+    }
+    return out;
+}
+
+/// Initial variables: control points at their parametric positions on the mesh.
+std::vector<Vec3> parametric_vars(const layout::QuadLayout& layout, const detail::PatchLocator& locator,
+                                  const LevelTopology& topo, int threads) {
+    if (topo.level == 0) return layout.cage.points;
+    const std::vector<subdiv::FacePoint> params = vertex_params(topo.mesh, topo.mesh_level);
+    std::vector<Vec3> out(params.size());
+    parallel_for(static_cast<int>(params.size()), threads,
+                 [&](int v) { out[v] = locator.locate(params[v].face, params[v].u, params[v].v).point; });
+    return out;
+}
+
+/// Control-net Laplacian rows (point minus the mean of its edge neighbours) as variable combinations.
+std::vector<Combo> laplacian_rows(const LevelTopology& topo) {
+    const int n = topo.mesh.num_vertices();
+    std::vector<std::set<int>> nbr(n);
+    for (const auto& q : topo.mesh.quads)
+        for (int k = 0; k < 4; ++k) nbr[q[k]].insert(q[(k + 1) % 4]), nbr[q[(k + 1) % 4]].insert(q[k]);
+    std::vector<Combo> rows(n);
+    for (int i = 0; i < n; ++i) {
+        std::vector<int> idx{i};
+        std::vector<double> w{1.0};
+        for (int j : nbr[i]) idx.push_back(j), w.push_back(-1.0 / nbr[i].size());
+        rows[i] = topo.compose(idx, w);
+    }
+    return rows;
+}
+
+/// An input point of the data term and its current foot point on the surface (level-L face).
+struct DataPoint {
+    Vec3 p;
+    subdiv::FacePoint c;
+};
+
+std::vector<DataPoint> make_data_points(const layout::QuadLayout& layout, const FitOptions& options) {
+    std::vector<detail::MeshSample> vertices = detail::sample_vertices(layout.mesh);
+    const std::vector<detail::MeshSample> area = detail::sample_by_area(layout.mesh, options.area_samples, options.seed);
+    const size_t cap = static_cast<size_t>(options.max_data_points);
+    if (area.size() >= cap) vertices.clear();
+    else if (vertices.size() + area.size() > cap) {
+        // Keep an evenly spread, deterministic subset of the vertices.
+        const size_t keep = cap - area.size();
+        std::vector<detail::MeshSample> kept;
+        kept.reserve(keep);
+        for (size_t k = 0; k < keep; ++k) kept.push_back(vertices[k * vertices.size() / keep]);
+        vertices.swap(kept);
+    }
+    std::vector<DataPoint> out;
+    out.reserve(vertices.size() + std::min(area.size(), cap));
+    auto add = [&](const detail::MeshSample& s) {
+        const auto& uv = layout.corner_uv[s.triangle];
+        double u = 0, v = 0;
+        for (int k = 0; k < 3; ++k) u += s.bary[k] * uv[k][0], v += s.bary[k] * uv[k][1];
+        out.push_back({s.point, {layout.triangle_patch[s.triangle], std::clamp(u, 0.0, 1.0), std::clamp(v, 0.0, 1.0)}});
+    };
+    for (const auto& s : vertices) add(s);
+    for (size_t k = 0; k < area.size() && out.size() < cap; ++k) add(area[k]);
+    return out;
+}
+
+/// The fixed limit-surface sample grid of the surface-to-input term.
+std::vector<subdiv::FacePoint> surface_samples(int faces, int per_face) {
+    const int k = static_cast<int>(std::ceil(std::sqrt(double(per_face)) - 1e-9));
+    std::vector<subdiv::FacePoint> out;
+    out.reserve(static_cast<size_t>(faces) * k * k);
+    for (int f = 0; f < faces; ++f)
+        for (int i = 0; i < k; ++i)
+            for (int j = 0; j < k; ++j) out.push_back({f, (i + 0.5) / k, (j + 0.5) / k});
+    return out;
+}
+
+struct LevelState {
+    std::vector<Vec3> vars;
+    std::vector<DataPoint> data;
+};
+
+struct Context {
+    const layout::QuadLayout& layout;
+    const FitOptions& options;
+    const accel::ClosestPointIndex& index;
+    double diagonal;
+    int threads;
+
+    void progress(const std::string& line) const {
+        if (options.progress) options.progress(line);
+    }
+    MeasureOptions measure_options() const {
+        MeasureOptions m;
+        m.samples = options.error_samples;
+        m.tolerance = options.tolerance;
+        m.seed = options.seed + 101;
+        m.threads = options.threads;
+        return m;
+    }
+};
+
+double data_rms(const subdiv::LimitSurface& surface, const std::vector<DataPoint>& data, int threads) {
+    std::vector<double> d2(data.size());
+    parallel_for(static_cast<int>(data.size()), threads, [&](int i) {
+        const Vec3 r = surface.evaluate(data[i].c).position - data[i].p;
+        d2[i] = dot(r, r);
+    });
+    double sum = 0;
+    for (double x : d2) sum += x;
+    return data.empty() ? 0.0 : std::sqrt(sum / data.size());
+}
+
+std::string format(const char* fmt, double a, double b = 0, double c = 0) {
+    char buf[256];
+    std::snprintf(buf, sizeof buf, fmt, a, b, c);
+    return buf;
+}
+
+/// Runs the rounds of one level from `state` (variables and correspondences on topo.mesh_level
+/// faces); leaves the best variables and their correspondences in `state`.
+LevelReport fit_level(const Context& ctx, const LevelTopology& topo, subdiv::LimitSurface& surface, LevelState& state) {
+    const FitOptions& o = ctx.options;
+    LevelReport rep;
+    rep.level = topo.level;
+    rep.control_points = topo.num_vars;
+    StageSeconds& sec = rep.seconds;
+
+    const std::vector<Combo> laplacian = laplacian_rows(topo);
+    const std::vector<subdiv::FacePoint> s_params = surface_samples(surface.num_faces(), o.surface_samples_per_face);
+    const int nd = static_cast<int>(state.data.size()), ns = static_cast<int>(s_params.size());
+    const double delta = o.huber_scale * ctx.diagonal;
+    // Ceres minimises 1/2 sum rho(|r|^2): weight 1/N per data point, beta/N per surface sample,
+    // lambda/N per control point, so the terms' sizes do not depend on the sample counts.
+    ceres::ScaledLoss data_loss(new ceres::HuberLoss(delta), 1.0 / std::max(nd, 1), ceres::TAKE_OWNERSHIP);
+    ceres::ScaledLoss surface_loss(new ceres::HuberLoss(delta), o.surface_to_input_weight / std::max(ns, 1),
+                                   ceres::TAKE_OWNERSHIP);
+
+    surface.set_points(topo.expand(state.vars));
+    auto clock = Clock::now();
+    double best = data_rms(surface, state.data, ctx.threads);
+    sec.evaluation += seconds_since(clock);
+    LevelState best_state = state;
+    rep.stop_reason = "max_iterations";
+    // Once the data RMS stalls, one last round with the final (smallest) smoothness weight, so an
+    // early stop does not leave the surface biased by a large smoothness term.
+    bool final_round = false;
+    for (int round = 0; round < o.outer_iterations; ++round) {
+        const double t = o.outer_iterations > 1 ? double(round) / (o.outer_iterations - 1) : 1.0;
+        const double lambda = final_round ? o.smoothness_end
+                              : o.smoothness_start > 0 && o.smoothness_end > 0
+                                  ? o.smoothness_start * std::pow(o.smoothness_end / o.smoothness_start, t)
+                                  : o.smoothness_start + (o.smoothness_end - o.smoothness_start) * t;
+
+        // Stencils of the data correspondences and of the surface samples.
+        clock = Clock::now();
+        std::vector<Combo> data_combo(nd), surf_combo(ns);
+        std::vector<Vec3> surf_pos(ns);
+        parallel_for(nd, ctx.threads, [&](int i) {
+            const subdiv::LimitStencil s = surface.stencil(state.data[i].c);
+            data_combo[i] = topo.compose(s.indices, s.position_weights);
+        });
+        parallel_for(ns, ctx.threads, [&](int i) {
+            const subdiv::LimitStencil s = surface.stencil(s_params[i]);
+            surf_combo[i] = topo.compose(s.indices, s.position_weights);
+            surf_pos[i] = surface.evaluate(s_params[i]).position;
+        });
+        sec.evaluation += seconds_since(clock);
+
+        clock = Clock::now();
+        const std::vector<accel::ClosestHit> hits = ctx.index.query_all(surf_pos, ctx.threads);
+        sec.closest_points += seconds_since(clock);
+
+        clock = Clock::now();
+        std::vector<double> x(3 * static_cast<size_t>(topo.num_vars));
+        for (int v = 0; v < topo.num_vars; ++v)
+            for (int d = 0; d < 3; ++d) x[3 * v + d] = state.vars[v][d];
+        ceres::Problem::Options po;
+        po.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+        ceres::Problem problem(po);
+        for (int v = 0; v < topo.num_vars; ++v) problem.AddParameterBlock(&x[3 * v], 3);
+        std::vector<double*> blocks;
+        auto split = [&](const Combo& c, std::vector<double>* w) {
+            blocks.clear();
+            w->clear();
+            for (const auto& [v, weight] : c) blocks.push_back(&x[3 * v]), w->push_back(weight);
+        };
+        std::vector<double> w;
+        for (int i = 0; i < nd; ++i) {
+            split(data_combo[i], &w);
+            problem.AddResidualBlock(detail::point_to_point_cost(w, state.data[i].p, 1.0), &data_loss, blocks);
+        }
+        if (o.surface_to_input_weight > 0)
+            for (int i = 0; i < ns; ++i) {
+                const Triangle& tri = ctx.layout.mesh.triangles[hits[i].triangle];
+                const Vec3& a = ctx.layout.mesh.points[tri[0]];
+                Vec3 n = cross(ctx.layout.mesh.points[tri[1]] - a, ctx.layout.mesh.points[tri[2]] - a);
+                const double len = norm(n);
+                if (!(len > 0)) continue;
+                n = n / len;
+                split(surf_combo[i], &w);
+                problem.AddResidualBlock(detail::point_to_plane_cost(w, hits[i].point, n, 1.0), &surface_loss, blocks);
+            }
+        if (lambda > 0) {
+            const double scale = std::sqrt(lambda / laplacian.size());
+            for (const Combo& row : laplacian) {
+                split(row, &w);
+                problem.AddResidualBlock(detail::smoothness_cost(w, scale), nullptr, blocks);
+            }
+        }
+        ceres::Solver::Options so;
+        // Dense only for a handful of variables: the dense path forms the full Jacobian (rows x 3n).
+        so.linear_solver_type = topo.num_vars <= 16 ? ceres::DENSE_NORMAL_CHOLESKY : ceres::SPARSE_NORMAL_CHOLESKY;
+        so.num_threads = ctx.threads;
+        so.max_num_iterations = o.solver_iterations;
+        so.logging_type = ceres::SILENT;
+        so.minimizer_progress_to_stdout = false;
+        ceres::Solver::Summary summary;
+        const double setup = seconds_since(clock);
+        ceres::Solve(so, &problem, &summary);
+        ctx.progress(format("  ceres: set-up %.2f s, preprocess %.2f s, jacobians %.2f s", setup,
+                            summary.preprocessor_time_in_seconds, summary.jacobian_evaluation_time_in_seconds) +
+                     format(", linear solver %.2f s, total %.2f s", summary.linear_solver_time_in_seconds,
+                            summary.total_time_in_seconds));
+        sec.solve += seconds_since(clock);
+        rep.iterations = round + 1;
+        rep.solver_iterations += static_cast<int>(summary.iterations.size());
+        if (!summary.IsSolutionUsable()) {
+            rep.stop_reason = "solver failed: " + summary.message;
+            break;
+        }
+        for (int v = 0; v < topo.num_vars; ++v) state.vars[v] = {x[3 * v], x[3 * v + 1], x[3 * v + 2]};
+
+        // New correspondences: project every data point onto the new surface from its old foot.
+        clock = Clock::now();
+        surface.set_points(topo.expand(state.vars));
+        parallel_for(nd, ctx.threads, [&](int i) { state.data[i].c = surface.project(state.data[i].p, state.data[i].c); });
+        const double rms = data_rms(surface, state.data, ctx.threads);
+        sec.evaluation += seconds_since(clock);
+        ctx.progress("level " + std::to_string(topo.level) + " round " + std::to_string(round + 1) +
+                     format(": data rms %.3e (relative), smoothness %.1e", rms / ctx.diagonal, lambda));
+        if (rms > best) {
+            state = best_state;  // the last round made things worse: keep the previous fit
+            rep.stop_reason = "no improvement";
+            break;
+        }
+        const double gain = best > 0 ? (best - rms) / best : 0.0;
+        best = rms;
+        best_state = state;
+        if (final_round) {
+            rep.stop_reason = "converged";
+            break;
+        }
+        if (gain < o.min_improvement) {
+            rep.stop_reason = format("converged (data rms improved by %.2g%% < %.2g%%)", 100 * gain, 100 * o.min_improvement);
+            if (lambda <= o.smoothness_end || round + 1 == o.outer_iterations) break;
+            final_round = true;
+        }
+    }
+    surface.set_points(topo.expand(state.vars));
+    return rep;
+}
+
+void fill_error(LevelReport* rep, const ErrorMeasurement& m) {
+    rep->absolute = m.absolute;
+    rep->relative = m.relative;
+    rep->diagonal = m.diagonal;
+    rep->within_tolerance = m.within_tolerance;
+}
+
+}  // namespace
+
+FitResult fit_surface(const layout::QuadLayout& layout, const FitOptions& options) {
+    if (const std::string why = options.validate(); !why.empty()) throw InvalidInput("fit: " + why);
+    validate_layout(layout);
+    const auto start = Clock::now();
+    const int threads = resolve_threads(options.threads);
+
+    auto clock = Clock::now();
+    const accel::ClosestPointIndex index(layout.mesh);
+    const double build_seconds = seconds_since(clock);
+    const Context ctx{layout, options, index, bounding_box(layout.mesh).diagonal(), threads};
+    if (!(ctx.diagonal > 0)) throw InvalidInput("fit: the layout mesh has a zero bounding box");
+
+    clock = Clock::now();
+    const subdiv::CageRefinement level1 = subdiv::refine_cage(layout.cage);
+    const detail::PatchLocator locator(layout);
+    std::vector<DataPoint> data0 = make_data_points(layout, options);
+    const double setup_seconds = seconds_since(clock);
+    ctx.progress("fit: " + std::to_string(data0.size()) + " data points, cage of " +
+                 std::to_string(layout.cage.num_quads()) + " quads");
+
+    subdiv::LimitSurfaceOptions lso;
+    lso.irregular_level = options.irregular_level;
+    lso.threads = options.threads;
+
+    const int first = options.mode == FitMode::Level ? options.level : 0;
+    const int last = options.mode == FitMode::Level ? options.level : options.max_level;
+    FitResult result;
+    LevelState state;
+    std::shared_ptr<subdiv::LimitSurface> surface, kept_surface;  // kept: of the last accepted level
+    std::vector<Vec3> kept_vars;
+    LevelTopology topo;
+    for (int level = first; level <= last; ++level) {
+        const auto level_start = Clock::now();
+        StageSeconds pre;
+        clock = Clock::now();
+        LevelTopology next = make_topology(level1, level);
+        const std::vector<Vec3> parametric = parametric_vars(layout, locator, next, threads);
+        // Parametric start: control points at their patch coordinates on the mesh, correspondences
+        // from the patch coordinates of the data points.
+        LevelState parametric_state;
+        parametric_state.data = data0;
+        for (DataPoint& d : parametric_state.data) d.c = subdiv::descend(d.c, next.mesh_level);
+        parametric_state.vars = parametric;
+        LevelState warm;
+        if (level > first) {
+            // The previous fit, refined: the same limit surface on the new control mesh, with the
+            // previous feet one level down (the same surface points).
+            warm.data = state.data;
+            if (next.mesh_level > topo.mesh_level)
+                for (DataPoint& d : warm.data) d.c = subdiv::to_child(d.c);
+            subdiv::QuadMesh prev = topo.mesh;
+            prev.points = topo.expand(state.vars);
+            if (next.mesh_level > topo.mesh_level) {
+                // Faces of both refinements come in the same order; their vertex numbering need not
+                // (OpenSubdiv numbers edges as it builds them), so match vertices through face corners.
+                const subdiv::QuadMesh refined = subdiv::refine_uniform(prev, 1);
+                QC_CHECK(refined.num_quads() == next.mesh.num_quads(), "warm start: face counts differ");
+                warm.vars.assign(next.mesh.points.size(), Vec3{});
+                for (int f = 0; f < refined.num_quads(); ++f)
+                    for (int k = 0; k < 4; ++k) warm.vars[next.mesh.quads[f][k]] = refined.points[refined.quads[f][k]];
+            } else {
+                warm.vars = prev.points;
+            }
+        }
+        pre.parameterization += seconds_since(clock) + (level == first ? setup_seconds + build_seconds : 0.0);
+        clock = Clock::now();
+        surface = std::make_shared<subdiv::LimitSurface>(next.mesh, lso);
+        pre.evaluation += seconds_since(clock);
+        topo = std::move(next);
+        LevelReport rep;
+        if (options.measure_unfitted) {
+            surface->set_points(topo.expand(parametric));
+            detail::MeasureTimes mt;
+            const ErrorMeasurement m = detail::measure(layout.mesh, index, *surface, level, ctx.measure_options(), &mt);
+            rep.unfitted_relative_rms = m.relative.rms;
+            rep.unfitted_relative_hausdorff = m.relative.hausdorff;
+        }
+        const double unfitted_rms = rep.unfitted_relative_rms, unfitted_h = rep.unfitted_relative_hausdorff;
+        state = std::move(parametric_state);
+        rep = fit_level(ctx, topo, *surface, state);
+        detail::MeasureTimes mt;
+        ErrorMeasurement m = detail::measure(layout.mesh, index, *surface, level, ctx.measure_options(), &mt);
+        if (level > first && m.relative.rms > result.levels.back().relative.rms) {
+            // Tolerance mode: the parametric start is fitted first because a coarse level can be
+            // degenerate (the limit of the 2 x 2 torus cage folds onto itself) and its refinement a
+            // poor start. When that fit measures worse than the previous level, fit again from the
+            // previous fit refined once (the same surface, so it starts at the previous error) and
+            // keep the better of the two.
+            ctx.progress("level " + std::to_string(level) + ": worse than level " + std::to_string(level - 1) +
+                         ", fitting again from the refined previous fit");
+            const LevelState parametric_fit = state;
+            LevelReport warm_rep = fit_level(ctx, topo, *surface, warm);
+            const ErrorMeasurement mw = detail::measure(layout.mesh, index, *surface, level, ctx.measure_options(), &mt);
+            warm_rep.seconds.evaluation += rep.seconds.evaluation;
+            warm_rep.seconds.closest_points += rep.seconds.closest_points;
+            warm_rep.seconds.solve += rep.seconds.solve;
+            if (mw.relative.rms <= m.relative.rms) {
+                rep = warm_rep;
+                state = std::move(warm);
+                m = mw;
+                rep.stop_reason += " (from the refined previous fit)";
+            } else {
+                rep.seconds = warm_rep.seconds;
+                rep.stop_reason += " (from the parametric start; the refined previous fit measured worse)";
+                state = parametric_fit;
+                surface->set_points(topo.expand(state.vars));
+            }
+        }
+        rep.unfitted_relative_rms = unfitted_rms;
+        rep.unfitted_relative_hausdorff = unfitted_h;
+        rep.seconds.parameterization += pre.parameterization;
+        rep.seconds.evaluation += pre.evaluation + mt.evaluation;
+        rep.seconds.closest_points += pre.closest_points + mt.closest_points;
+        fill_error(&rep, m);
+        rep.seconds.total = seconds_since(level_start) + (level == first ? build_seconds + setup_seconds : 0.0);
+        ctx.progress("level " + std::to_string(level) + ": " + std::to_string(rep.control_points) +
+                     " control points, " + format("relative rms %.3e, hausdorff %.3e, %.2f s", m.relative.rms,
+                                                  m.relative.hausdorff, rep.seconds.total));
+        if (level > first && m.relative.rms > result.levels.back().relative.rms) {
+            // Even from the previous fit the finer level measures worse: the fit has reached the
+            // resolution of the input (more control points follow its facets). Going on cannot help.
+            result.rejected_level = rep;
+            ctx.progress("level " + std::to_string(level) + " measures worse than level " + std::to_string(level - 1) +
+                         "; keeping level " + std::to_string(level - 1));
+            break;
+        }
+        result.levels.push_back(rep);
+        kept_surface = surface;
+        kept_vars = state.vars;
+        if (options.mode == FitMode::Tolerance && m.relative.rms <= options.tolerance) {
+            result.tolerance_met = true;
+            break;
+        }
+    }
+    const LevelReport& fin = result.levels.back();
+    result.fitted_corners = fin.level == 0 ? kept_vars : std::vector<Vec3>{};
+    result.surface = FittedSurface(std::shared_ptr<const subdiv::LimitSurface>(kept_surface), fin.level, layout.cage.num_quads());
+    if (options.mode == FitMode::Level)
+        result.message = "fitted level " + std::to_string(fin.level) + format(": relative rms %.3e", fin.relative.rms);
+    else if (result.tolerance_met)
+        result.message = "tolerance " + format("%.3g", options.tolerance) + " met at level " + std::to_string(fin.level) +
+                         format(" (relative rms %.3e)", fin.relative.rms);
+    else if (result.rejected_level)
+        result.message = "tolerance " + format("%.3g", options.tolerance) + " not met: level " +
+                         std::to_string(result.rejected_level->level) + " did not improve on level " +
+                         std::to_string(fin.level) + format(" (relative rms %.3e", fin.relative.rms) +
+                         format(" vs %.3e); the input's own resolution limits the fit", result.rejected_level->relative.rms);
+    else
+        result.message = "tolerance " + format("%.3g", options.tolerance) + " not met by max_level " +
+                         std::to_string(options.max_level) + format(" (relative rms %.3e)", fin.relative.rms);
+    ctx.progress(result.message + format(" in %.2f s", seconds_since(start)));
+    return result;
+}
+
+}  // namespace quadcage::fit

@@ -1,0 +1,206 @@
+#include "quadcage/fit/outputs.h"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <sstream>
+
+#include "detail/sampling.h"
+#include "quadcage/accel/closest_point.h"
+#include "quadcage/core/errors.h"
+#include "quadcage/core/io.h"
+#include "quadcage/core/parallel.h"
+
+namespace quadcage::fit {
+
+namespace {
+
+namespace fs = std::filesystem;
+using Json = nlohmann::ordered_json;
+
+Json stats_json(const DistanceStats& s) { return Json{{"rms", s.rms}, {"mean", s.mean}, {"max", s.max}}; }
+
+Json error_json(const FitError& e) {
+    return Json{{"input_to_surface", stats_json(e.input_to_surface)},
+                {"surface_to_input", stats_json(e.surface_to_input)},
+                {"rms", e.rms},
+                {"hausdorff", e.hausdorff}};
+}
+
+long long max_segments(const FittedSurface& surface, long long max_triangles) {
+    const long long faces = surface.limit().num_faces();
+    return std::max(1LL, static_cast<long long>(std::floor(std::sqrt(double(max_triangles) / (2.0 * faces)))));
+}
+
+}  // namespace
+
+std::string LimitPlyOptions::validate() const {
+    if (!(error_fraction > 0 && error_fraction <= 1)) return "error_fraction must be in (0, 1]";
+    if (max_triangles < 2) return "max_triangles must be >= 2";
+    if (min_segments < 1) return "min_segments must be >= 1";
+    if (estimate_faces < 1 || estimate_points_per_face < 1) return "estimate_faces and estimate_points_per_face must be >= 1";
+    if (threads < 0) return "threads must be >= 0";
+    return {};
+}
+
+TessellationChoice tessellation_error(const FittedSurface& surface, int segments, const LimitPlyOptions& options) {
+    if (const std::string why = options.validate(); !why.empty()) throw InvalidInput("tessellation_error: " + why);
+    if (segments < 1) throw InvalidInput("tessellation_error: segments must be >= 1");
+    const subdiv::LimitSurface& limit = surface.limit();
+    const int nf = limit.num_faces();
+    const int faces = std::min(nf, options.estimate_faces);
+    const int per_face = options.estimate_points_per_face;
+    std::vector<double> err(static_cast<size_t>(faces) * per_face);
+    parallel_for(faces, options.threads, [&](int k) {
+        const int f = static_cast<int>(static_cast<long long>(k) * nf / faces);
+        detail::Rng rng(options.seed * 1000003ULL + f);
+        const double n = segments;
+        for (int s = 0; s < per_face; ++s) {
+            const double u = rng.uniform(), v = rng.uniform();
+            const int i = std::min(segments - 1, static_cast<int>(u * n));
+            const int j = std::min(segments - 1, static_cast<int>(v * n));
+            const double a = u * n - i, b = v * n - j;  // position in the cell
+            auto at = [&](int di, int dj) { return limit.evaluate({f, (i + di) / n, (j + dj) / n}).position; };
+            // The cell's two triangles: (00, 10, 11) below the diagonal a >= b, (00, 11, 01) above it.
+            Vec3 flat;
+            if (a >= b) flat = at(0, 0) * (1 - a) + at(1, 0) * (a - b) + at(1, 1) * b;
+            else flat = at(0, 0) * (1 - b) + at(1, 1) * a + at(0, 1) * (b - a);
+            err[static_cast<size_t>(k) * per_face + s] = norm(flat - limit.evaluate({f, u, v}).position);
+        }
+    });
+    TessellationChoice c;
+    c.segments = segments;
+    c.triangles = 2LL * segments * segments * nf;
+    double sum2 = 0;
+    for (double e : err) sum2 += e * e, c.max_error = std::max(c.max_error, e);
+    c.rms_error = std::sqrt(sum2 / err.size());
+    return c;
+}
+
+TessellationChoice choose_tessellation(const FittedSurface& surface, double fit_rms, const LimitPlyOptions& options) {
+    if (!(fit_rms > 0) || !std::isfinite(fit_rms))
+        throw InvalidInput("choose_tessellation: the fit RMS must be positive and finite");
+    const double target = options.error_fraction * fit_rms;
+    const int cap = static_cast<int>(std::min<long long>(max_segments(surface, options.max_triangles), 1 << 14));
+    int n = std::min(cap, std::max(options.min_segments, 4));
+    TessellationChoice c = tessellation_error(surface, n, options);
+    // Chord error falls like 1/n^2: jump to the predicted n, then re-measure (a few times at most).
+    for (int attempt = 0; attempt < 6 && c.rms_error > target && n < cap; ++attempt) {
+        const double factor = std::sqrt(c.rms_error / target) * 1.05;
+        n = std::min(cap, std::max(n + 1, static_cast<int>(std::ceil(n * factor))));
+        c = tessellation_error(surface, n, options);
+    }
+    // The prediction may overshoot by one step.
+    if (c.rms_error <= target && n > options.min_segments) {
+        const TessellationChoice coarser = tessellation_error(surface, n - 1, options);
+        if (coarser.rms_error <= target) c = coarser;
+    }
+    c.target = target;
+    c.met = c.rms_error <= target;
+    return c;
+}
+
+void write_quad_obj(const std::string& path, const subdiv::QuadMesh& mesh) {
+    std::ostringstream out;
+    out << "# quadcage fitted control mesh: " << mesh.num_vertices() << " vertices, " << mesh.num_quads() << " quads\n";
+    char buf[128];
+    for (const Vec3& p : mesh.points) {
+        std::snprintf(buf, sizeof buf, "v %.17g %.17g %.17g\n", p.x, p.y, p.z);
+        out << buf;
+    }
+    for (const auto& q : mesh.quads) out << "f " << q[0] + 1 << ' ' << q[1] + 1 << ' ' << q[2] + 1 << ' ' << q[3] + 1 << '\n';
+    write_text_file(path, out.str());
+}
+
+void write_limit_ply(const std::string& path, const Mesh& input, const FittedSurface& surface,
+                     const TessellationChoice& choice, int threads) {
+    const subdiv::LimitTessellation tess = surface.limit().tessellate(std::max(1, choice.segments));
+    const accel::ClosestPointIndex index(input);
+    const std::vector<accel::ClosestHit> hits = index.query_all(tess.mesh.points, threads);
+    PlyExtras extras;
+    extras.vertex_float_name = "distance";
+    extras.vertex_floats.resize(hits.size());
+    for (size_t i = 0; i < hits.size(); ++i) extras.vertex_floats[i] = static_cast<float>(hits[i].distance);
+    write_ply(path, tess.mesh, extras);
+}
+
+void write_deviation_ply(const std::string& path, const Mesh& input, const FittedSurface& surface, int threads) {
+    const std::vector<double> d = distances_to_surface(surface, input.points, 32, threads);
+    PlyExtras extras;
+    extras.vertex_float_name = "distance";
+    extras.vertex_floats.assign(d.begin(), d.end());
+    write_ply(path, input, extras);
+}
+
+std::string fit_report_json(const FitResult& result, const FitOptions& options, const TessellationChoice* tessellation) {
+    Json report;
+    report["mode"] = options.mode == FitMode::Level ? "level" : "tolerance";
+    if (options.mode == FitMode::Level) report["requested_level"] = options.level;
+    else report["max_level"] = options.max_level;
+    report["tolerance"] = options.tolerance;
+    report["tolerance_met"] = result.tolerance_met;
+    report["level"] = result.levels.empty() ? -1 : result.levels.back().level;
+    report["message"] = result.message;
+    report["diagonal"] = result.levels.empty() ? 0.0 : result.levels.back().diagonal;
+    auto level_json = [](const LevelReport& l) {
+        Json j;
+        j["level"] = l.level;
+        j["control_points"] = l.control_points;
+        j["absolute"] = error_json(l.absolute);
+        j["relative"] = error_json(l.relative);
+        j["within_tolerance"] = l.within_tolerance;
+        j["iterations"] = l.iterations;
+        j["solver_iterations"] = l.solver_iterations;
+        j["stop_reason"] = l.stop_reason;
+        j["seconds"] = Json{{"parameterization", l.seconds.parameterization},
+                            {"evaluation", l.seconds.evaluation},
+                            {"closest_points", l.seconds.closest_points},
+                            {"solve", l.seconds.solve},
+                            {"total", l.seconds.total}};
+        if (l.unfitted_relative_rms >= 0)
+            j["unfitted_relative"] = Json{{"rms", l.unfitted_relative_rms}, {"hausdorff", l.unfitted_relative_hausdorff}};
+        return j;
+    };
+    Json levels = Json::array();
+    for (const LevelReport& l : result.levels) levels.push_back(level_json(l));
+    report["levels"] = levels;
+    if (result.rejected_level) report["rejected_level"] = level_json(*result.rejected_level);
+    if (!result.surface.empty())
+        report["fitted_cage"] = Json{{"vertices", result.surface.control_mesh().num_vertices()},
+                                     {"quads", result.surface.control_mesh().num_quads()}};
+    if (tessellation)
+        report["limit_tessellation"] = Json{{"segments_per_face", tessellation->segments},
+                                            {"triangles", tessellation->triangles},
+                                            {"rms_error", tessellation->rms_error},
+                                            {"max_error", tessellation->max_error},
+                                            {"target", tessellation->target},
+                                            {"met", tessellation->met}};
+    return report.dump(2) + "\n";
+}
+
+FitOutputs write_fit_outputs(const std::string& dir, const Mesh& input, const FitResult& result,
+                             const FitOptions& options, const LimitPlyOptions& ply_options) {
+    if (result.surface.empty() || result.levels.empty()) throw InvalidInput("write_fit_outputs: the fit result is empty");
+    std::error_code ec;
+    fs::create_directories(dir, ec);
+    if (ec) throw InvalidInput("cannot create output directory " + dir + ": " + ec.message());
+    FitOutputs out;
+    const fs::path base(dir);
+    const std::string cage = (base / "fitted_cage.obj").string(), limit = (base / "limit.ply").string();
+    const std::string deviation = (base / "deviation.ply").string(), report = (base / "report.json").string();
+    write_quad_obj(cage, result.surface.control_mesh());
+    out.files.push_back(cage);
+    out.tessellation = choose_tessellation(result.surface, result.levels.back().absolute.rms, ply_options);
+    write_limit_ply(limit, input, result.surface, out.tessellation, ply_options.threads);
+    out.files.push_back(limit);
+    write_deviation_ply(deviation, input, result.surface, ply_options.threads);
+    out.files.push_back(deviation);
+    write_text_file(report, fit_report_json(result, options, &out.tessellation));
+    out.files.push_back(report);
+    return out;
+}
+
+}  // namespace quadcage::fit

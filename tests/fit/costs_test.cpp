@@ -1,0 +1,111 @@
+// Ceres gradient checks of every cost function of the fit (src/fit/detail/costs.h).
+
+#include "detail/costs.h"
+
+#include <ceres/gradient_checker.h>
+#include <gtest/gtest.h>
+
+#include <memory>
+#include <random>
+
+namespace quadcage::fit::detail {
+namespace {
+
+struct Probe {
+    std::vector<double> weights;
+    std::vector<std::array<double, 3>> points;
+};
+
+Probe random_probe(int blocks, unsigned seed, bool sum_to_zero) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> uni(-1.0, 1.0);
+    Probe p;
+    double sum = 0;
+    for (int i = 0; i < blocks; ++i) {
+        p.weights.push_back(uni(rng));
+        sum += p.weights.back();
+        p.points.push_back({uni(rng), uni(rng), uni(rng)});
+    }
+    if (sum_to_zero) p.weights.back() -= sum;
+    return p;
+}
+
+// True if Ceres' numeric differentiation agrees with the analytic Jacobian.
+bool gradient_ok(const ceres::CostFunction& cost, const Probe& probe, std::string* log) {
+    ceres::NumericDiffOptions numeric;
+    const std::vector<const ceres::Manifold*>* no_manifolds = nullptr;
+    ceres::GradientChecker checker(&cost, no_manifolds, numeric);
+    std::vector<const double*> params;
+    for (const auto& p : probe.points) params.push_back(p.data());
+    ceres::GradientChecker::ProbeResults results;
+    const bool ok = checker.Probe(params.data(), 1e-7, &results);
+    *log = results.error_log;
+    return ok;
+}
+
+TEST(FitCosts, PointToPointGradient) {
+    for (int blocks : {1, 4, 16}) {
+        const Probe p = random_probe(blocks, 10 + blocks, false);
+        std::unique_ptr<ceres::CostFunction> cost(point_to_point_cost(p.weights, {0.3, -0.2, 0.9}, 2.5));
+        std::string log;
+        EXPECT_TRUE(gradient_ok(*cost, p, &log)) << log;
+    }
+}
+
+TEST(FitCosts, PointToPlaneGradient) {
+    for (int blocks : {1, 5, 20}) {
+        const Probe p = random_probe(blocks, 20 + blocks, false);
+        const Vec3 n = Vec3{1, 2, -2} / 3.0;
+        std::unique_ptr<ceres::CostFunction> cost(point_to_plane_cost(p.weights, {0.1, 0.2, 0.3}, n, 0.7));
+        std::string log;
+        EXPECT_TRUE(gradient_ok(*cost, p, &log)) << log;
+    }
+}
+
+TEST(FitCosts, SmoothnessGradient) {
+    for (int blocks : {2, 6}) {
+        const Probe p = random_probe(blocks, 30 + blocks, true);
+        std::unique_ptr<ceres::CostFunction> cost(smoothness_cost(p.weights, 0.05));
+        std::string log;
+        EXPECT_TRUE(gradient_ok(*cost, p, &log)) << log;
+    }
+}
+
+TEST(FitCosts, ResidualsHaveTheirMeaning) {
+    // A stencil (0.25, 0.75) on points a, b is the point 0.25 a + 0.75 b.
+    const std::array<double, 3> a{0, 0, 0}, b{4, 0, 0};
+    const double* params[] = {a.data(), b.data()};
+    double r[3];
+    std::unique_ptr<ceres::CostFunction> p2p(point_to_point_cost({0.25, 0.75}, {3, 1, 0}, 1.0));
+    ASSERT_TRUE(p2p->Evaluate(params, r, nullptr));
+    EXPECT_DOUBLE_EQ(r[0], 0.0);
+    EXPECT_DOUBLE_EQ(r[1], -1.0);
+    std::unique_ptr<ceres::CostFunction> p2l(point_to_plane_cost({0.25, 0.75}, {0, 5, 0}, {1, 0, 0}, 2.0));
+    ASSERT_TRUE(p2l->Evaluate(params, r, nullptr));
+    EXPECT_DOUBLE_EQ(r[0], 6.0);  // 2 * (3 - 0)
+    EXPECT_EQ(p2l->num_residuals(), 1);
+}
+
+// The checker itself must catch a wrong Jacobian, or the tests above prove nothing.
+class WrongJacobian final : public ceres::CostFunction {
+public:
+    WrongJacobian() {
+        set_num_residuals(3);
+        mutable_parameter_block_sizes()->push_back(3);
+    }
+    bool Evaluate(double const* const* x, double* r, double** j) const override {
+        for (int d = 0; d < 3; ++d) r[d] = 2 * x[0][d];
+        if (j && j[0])
+            for (int k = 0; k < 9; ++k) j[0][k] = (k % 4 == 0) ? 1.0 : 0.0;  // should be 2
+        return true;
+    }
+};
+
+TEST(FitCosts, GradientCheckerRejectsAWrongJacobian) {
+    const Probe p = random_probe(1, 5, false);
+    std::string log;
+    EXPECT_FALSE(gradient_ok(WrongJacobian(), p, &log));
+}
+
+}  // namespace
+}  // namespace quadcage::fit::detail

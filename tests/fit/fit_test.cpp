@@ -1,0 +1,353 @@
+#include "quadcage/fit/fit.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "quadcage/core/errors.h"
+#include "quadcage/core/io.h"
+#include "quadcage/fit/outputs.h"
+#include "support/fit_layouts.h"
+#include "support/names.h"
+
+namespace quadcage::fit {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Small and fast: a few thousand data points, 20k error samples.
+FitOptions fast_options() {
+    FitOptions o;
+    o.area_samples = 3000;
+    o.error_samples = 20000;
+    o.measure_unfitted = true;
+    return o;
+}
+
+FitResult fit_level(const layout::QuadLayout& layout, int level) {
+    FitOptions o = fast_options();
+    o.mode = FitMode::Level;
+    o.level = level;
+    return fit_surface(layout, o);
+}
+
+std::string describe(const LevelReport& l) {
+    std::ostringstream s;
+    s << "level " << l.level << ": relative rms " << l.relative.rms << ", hausdorff " << l.relative.hausdorff
+      << ", unfitted rms " << l.unfitted_relative_rms << ", " << l.iterations << " rounds (" << l.stop_reason << ")";
+    return s.str();
+}
+
+// Fits every level separately (level mode, each from its parametric start) and checks the issue's
+// requirements: errors do not increase with level (2% slack for the RMS, 10% for the sampled
+// Hausdorff distance), the fit beats the unfitted surface 3x at every level, and the accuracy level.
+void check_levels(const layout::QuadLayout& layout, int max_level, int accuracy_level) {
+    std::vector<LevelReport> reports;
+    for (int level = 0; level <= max_level; ++level) {
+        const FitResult r = fit_level(layout, level);
+        ASSERT_EQ(r.levels.size(), 1u);
+        reports.push_back(r.levels[0]);
+        const LevelReport& l = reports.back();
+        std::cout << "  " << describe(l) << "\n";
+        EXPECT_EQ(l.level, level);
+        EXPECT_GT(l.unfitted_relative_rms, 0);
+        EXPECT_LE(l.relative.rms, l.unfitted_relative_rms / 3) << describe(l);
+        EXPECT_NEAR(l.relative.rms * l.diagonal, l.absolute.rms, 1e-12 * l.diagonal);
+        EXPECT_GE(l.relative.hausdorff, l.relative.rms);
+        if (level > 0) {
+            EXPECT_LE(l.relative.rms, reports[level - 1].relative.rms * 1.02) << describe(l);
+            EXPECT_LE(l.relative.hausdorff, reports[level - 1].relative.hausdorff * 1.10) << describe(l);
+        }
+    }
+    EXPECT_LE(reports[accuracy_level].relative.rms, 2e-3);
+    EXPECT_LE(reports[accuracy_level].relative.hausdorff, 2e-2);
+}
+
+TEST(FitSurface, TorusErrorsFallWithLevelAndBeatTheUnfittedSurface) {
+    // Genus 1: the issue asks for its accuracy at level 4.
+    // 2048 vertices: finer than the 1024 control points of level 4, so the fit is not at the
+    // resolution of the input yet.
+    check_levels(test::torus_layout(64, 32), 4, 4);
+}
+
+TEST(FitSurface, SphereErrorsFallWithLevelAndBeatTheUnfittedSurface) {
+    check_levels(test::cube_sphere_layout(12), 3, 3);
+}
+
+TEST(FitSurface, ControlPointCountsFollowTheLevel) {
+    const layout::QuadLayout layout = test::cube_sphere_layout(6);
+    // Level 0: the 8 cube corners; level 1: V + E + F = 8 + 12 + 6; level 2: 26 + 48 + 24.
+    const int expected[] = {8, 26, 98};
+    for (int level = 0; level <= 2; ++level) {
+        const FitResult r = fit_level(layout, level);
+        EXPECT_EQ(r.levels[0].control_points, expected[level]);
+        EXPECT_EQ(r.surface.level(), level);
+        EXPECT_EQ(r.surface.control_mesh().num_quads(), 6 << (2 * std::max(level, 1)));
+    }
+}
+
+TEST(FitSurface, LevelZeroCornersRefineToTheFittedControlMesh) {
+    const layout::QuadLayout layout = test::torus_layout(16, 8);
+    const FitResult r = fit_level(layout, 0);
+    ASSERT_EQ(r.fitted_corners.size(), 4u);
+    subdiv::Cage cage = layout.cage;
+    cage.points = r.fitted_corners;
+    const subdiv::QuadMesh level1 = subdiv::refine_cage(cage).level1;
+    ASSERT_EQ(level1.points.size(), r.surface.control_mesh().points.size());
+    for (size_t i = 0; i < level1.points.size(); ++i)
+        EXPECT_LT(norm(level1.points[i] - r.surface.control_mesh().points[i]), 1e-12);
+    // The corners moved: the level-0 fit is not the parametric start.
+    double moved = 0;
+    for (int c = 0; c < 4; ++c) moved = std::max(moved, norm(r.fitted_corners[c] - layout.cage.points[c]));
+    EXPECT_GT(moved, 1e-3);
+}
+
+TEST(FitSurface, ToleranceModeStopsAtTheFirstLevelThatMeetsIt) {
+    const layout::QuadLayout layout = test::cube_sphere_layout(12);
+    FitOptions o = fast_options();
+    o.mode = FitMode::Tolerance;
+    o.tolerance = 5e-4;
+    const FitResult r = fit_surface(layout, o);
+    ASSERT_TRUE(r.tolerance_met) << r.message;
+    ASSERT_GE(r.levels.size(), 2u) << "level 0 of a cube cannot be that close to a sphere";
+    EXPECT_LE(r.levels.back().relative.rms, 5e-4);
+    for (size_t i = 0; i + 1 < r.levels.size(); ++i) {
+        EXPECT_EQ(r.levels[i].level, static_cast<int>(i));
+        EXPECT_GT(r.levels[i].relative.rms, 5e-4);
+        EXPECT_LE(r.levels[i + 1].relative.rms, r.levels[i].relative.rms);
+    }
+    EXPECT_EQ(r.surface.level(), r.levels.back().level);
+    EXPECT_NE(r.message.find("met at level " + std::to_string(r.levels.back().level)), std::string::npos) << r.message;
+}
+
+TEST(FitSurface, ToleranceModeReportsWhenTheInputResolutionIsReached) {
+    // torus(48, 24) has 1152 vertices: by level 4 (1024 control points) the fit follows the input's
+    // facets and measures slightly worse than level 3, which ends the search at level 3.
+    const layout::QuadLayout layout = test::torus_layout(48, 24);
+    FitOptions o = fast_options();
+    o.mode = FitMode::Tolerance;
+    o.tolerance = 1e-9;
+    o.max_level = 4;
+    const FitResult r = fit_surface(layout, o);
+    std::cout << "  " << r.message << "\n";
+    EXPECT_FALSE(r.tolerance_met);
+    for (size_t i = 1; i < r.levels.size(); ++i) EXPECT_LE(r.levels[i].relative.rms, r.levels[i - 1].relative.rms);
+    ASSERT_TRUE(r.rejected_level.has_value()) << r.message;
+    EXPECT_EQ(r.rejected_level->level, r.levels.back().level + 1);
+    EXPECT_GT(r.rejected_level->relative.rms, r.levels.back().relative.rms);
+    EXPECT_EQ(r.surface.level(), r.levels.back().level);
+    EXPECT_NE(r.message.find("did not improve"), std::string::npos) << r.message;
+    const auto report = nlohmann::json::parse(fit_report_json(r, o));
+    EXPECT_EQ(report["rejected_level"]["level"], r.rejected_level->level);
+}
+
+TEST(FitSurface, DeterministicAndIndependentOfTheThreadCount) {
+    const layout::QuadLayout layout = test::cube_sphere_layout(8);
+    FitOptions o = fast_options();
+    o.level = 2;
+    o.threads = 2;
+    const FitResult a = fit_surface(layout, o), b = fit_surface(layout, o);
+    o.threads = 1;
+    const FitResult c = fit_surface(layout, o);
+    EXPECT_EQ(a.levels[0].relative.rms, b.levels[0].relative.rms);
+    EXPECT_EQ(a.surface.control_mesh().points, b.surface.control_mesh().points);
+    EXPECT_NEAR(a.levels[0].relative.rms, c.levels[0].relative.rms, 1e-9);
+    for (size_t i = 0; i < a.surface.control_mesh().points.size(); ++i)
+        EXPECT_LT(norm(a.surface.control_mesh().points[i] - c.surface.control_mesh().points[i]), 1e-9);
+}
+
+TEST(FitSurface, FittedSurfaceEvaluatesOnCageCoordinates) {
+    const layout::QuadLayout layout = test::cube_sphere_layout(8);
+    const FitResult r = fit_level(layout, 2);
+    const FittedSurface& s = r.surface;
+    // Centre of cube face 0 = centre of its level-2 grid: a corner of 4 faces; a sphere of radius 1.
+    const subdiv::LimitPoint p = s.evaluate_on_cage({0, 0.5, 0.5});
+    EXPECT_NEAR(norm(p.position), 1.0, 1e-2);  // between the facets of the 8 x 8 input
+    EXPECT_GT(dot(p.normal, p.position), 0.99);
+    const subdiv::FacePoint f = s.from_cage({0, 0.3, 0.7});
+    EXPECT_LT(norm(s.evaluate(f).position - s.evaluate_on_cage({0, 0.3, 0.7}).position), 1e-15);
+    EXPECT_THROW(s.evaluate_on_cage({6, 0.5, 0.5}), InvalidInput);
+    EXPECT_THROW(FittedSurface().limit(), InvalidInput);
+}
+
+TEST(FitSurface, MeasureFindsNoErrorAgainstTheSurfaceItself) {
+    const layout::QuadLayout layout = test::cube_sphere_layout(6);
+    const FitResult r = fit_level(layout, 1);
+    // A fine tessellation of the fitted surface as the "input": distances are its chord errors.
+    const subdiv::LimitTessellation t = r.surface.limit().tessellate(24);
+    MeasureOptions mo;
+    mo.samples = 20000;
+    const ErrorMeasurement m = measure_fit_error(t.mesh, r.surface, mo);
+    LimitPlyOptions po;
+    const TessellationChoice chord = tessellation_error(r.surface, 24, po);
+    EXPECT_LE(m.absolute.rms, 2 * chord.rms_error + 1e-12);
+    EXPECT_LE(m.relative.rms, 1e-4);
+    EXPECT_EQ(m.within_tolerance, 1.0);
+    // Against the input with the samples fit_surface() measured with (seed + 101), it is the
+    // reported fit error again.
+    MeasureOptions same;
+    same.samples = fast_options().error_samples;
+    same.seed = FitOptions{}.seed + 101;
+    const ErrorMeasurement again = measure_fit_error(layout.mesh, r.surface, same);
+    EXPECT_NEAR(again.relative.rms, r.levels[0].relative.rms, 1e-12);
+    EXPECT_NEAR(again.relative.hausdorff, r.levels[0].relative.hausdorff, 1e-12);
+}
+
+TEST(FitSurface, RejectsBadInput) {
+    const layout::QuadLayout layout = test::cube_sphere_layout(4);
+    FitOptions o;
+    o.level = -1;
+    EXPECT_THROW(fit_surface(layout, o), InvalidInput);
+    o = FitOptions{};
+    o.tolerance = 0;
+    EXPECT_THROW(fit_surface(layout, o), InvalidInput);
+    o = FitOptions{};
+    o.huber_scale = -1;
+    EXPECT_NE(o.validate(), "");
+    layout::QuadLayout broken = layout;
+    broken.triangle_patch.pop_back();
+    EXPECT_THROW(fit_surface(broken, FitOptions{}), InvalidInput);
+    broken = layout;
+    broken.triangle_patch[3] = 6;
+    EXPECT_THROW(fit_surface(broken, FitOptions{}), InvalidInput);
+    broken = layout;
+    broken.corner_uv[0][1] = {1.5, 0.0};
+    EXPECT_THROW(fit_surface(broken, FitOptions{}), InvalidInput);
+    broken = layout;
+    broken.cage.quads[0].edges[0] = broken.cage.quads[0].edges[1];
+    EXPECT_THROW(fit_surface(broken, FitOptions{}), InvalidInput);
+    MeasureOptions mo;
+    mo.samples = 0;
+    EXPECT_THROW(measure_fit_error(layout.mesh, FittedSurface(), MeasureOptions{}), InvalidInput);
+    EXPECT_NE(mo.validate(), "");
+}
+
+// ---------------------------------------------------------------------------------------------
+// Writers and the independent checker
+
+int run_shell(const std::string& command) {
+    const int status = std::system(command.c_str());
+    if (status == -1) return -1;
+    return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+}
+
+std::string slurp(const fs::path& p) {
+    std::ifstream in(p);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+fs::path scratch_dir() {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    const fs::path dir = fs::temp_directory_path() /
+                         ("quadcage_fit_test_" + std::to_string(::getpid()) + "_" +
+                          test::identifier(std::string(info->test_suite_name()) + "_" + info->name()));
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    return dir;
+}
+
+std::string python_unavailable() {
+    if (!fs::exists("/usr/bin/python3")) return "/usr/bin/python3 is missing";
+    if (run_shell("/usr/bin/python3 -c 'import numpy, scipy' >/dev/null 2>&1") != 0)
+        return "/usr/bin/python3 cannot import numpy and scipy";
+    if (!fs::exists(fs::path(QUADCAGE_SHARED_DIR) / "tools" / "check_fit.py")) return "check_fit.py is missing";
+    return "";
+}
+
+// Writes the outputs of a fit and compares the report with check_fit.py's independent measurement.
+void check_outputs_against_checker(const layout::QuadLayout& layout, int level, const std::string& name) {
+    FitOptions o = fast_options();
+    o.level = level;
+    o.error_samples = 100000;  // as many as the checker takes
+    const FitResult r = fit_surface(layout, o);
+    const fs::path dir = scratch_dir() / name;
+    const FitOutputs out = write_fit_outputs(dir.string(), layout.mesh, r, o);
+    ASSERT_EQ(out.files.size(), 4u);
+    for (const auto& f : out.files) EXPECT_TRUE(fs::exists(f)) << f;
+    EXPECT_TRUE(out.tessellation.met) << "tessellation error " << out.tessellation.rms_error << " > " << out.tessellation.target;
+    EXPECT_LE(out.tessellation.rms_error, 0.1 * r.levels.back().absolute.rms);
+
+    // report.json has the fields the bench reads.
+    const auto report = nlohmann::json::parse(slurp(dir / "report.json"));
+    ASSERT_EQ(report["levels"].size(), 1u);
+    const auto& l = report["levels"][0];
+    EXPECT_EQ(l["level"], level);
+    EXPECT_EQ(l["control_points"], r.levels[0].control_points);
+    EXPECT_DOUBLE_EQ(l["relative"]["rms"].get<double>(), r.levels[0].relative.rms);
+    for (const char* key : {"parameterization", "evaluation", "closest_points", "solve", "total"})
+        EXPECT_TRUE(l["seconds"].contains(key)) << key;
+    for (const char* dir_key : {"input_to_surface", "surface_to_input"})
+        for (const char* stat : {"rms", "mean", "max"}) EXPECT_TRUE(l["absolute"][dir_key].contains(stat));
+
+    // The files read back: fitted cage (quads fan-split by the reader), limit and deviation meshes.
+    const Mesh cage = read_mesh((dir / "fitted_cage.obj").string());
+    EXPECT_EQ(cage.num_triangles(), 2 * r.surface.control_mesh().num_quads());
+    const Mesh deviation = read_mesh((dir / "deviation.ply").string());
+    EXPECT_EQ(deviation.num_vertices(), layout.mesh.num_vertices());
+    const Mesh limit = read_mesh((dir / "limit.ply").string());
+    EXPECT_EQ(limit.num_triangles(), out.tessellation.triangles);
+
+    const std::string why = python_unavailable();
+    if (!why.empty()) GTEST_SKIP() << "check_fit.py not run: " << why;
+    write_ply((dir / "input.ply").string(), layout.mesh);
+    const fs::path log = dir / "check_fit.txt";
+    const std::string checker = (fs::path(QUADCAGE_SHARED_DIR) / "tools" / "check_fit.py").string();
+    ASSERT_EQ(run_shell("'" + checker + "' --input '" + (dir / "input.ply").string() + "' --surface '" +
+                        (dir / "limit.ply").string() + "' > '" + log.string() + "' 2>&1 </dev/null"),
+              0)
+        << slurp(log);
+    const std::string text = slurp(log);
+    const auto measured = nlohmann::json::parse(text.substr(0, text.find('\n')));
+    const double rms = measured["relative"]["rms"], hausdorff = measured["relative"]["hausdorff"];
+    std::cout << "  " << name << " level " << level << ": ours rms " << r.levels[0].relative.rms << " hausdorff "
+              << r.levels[0].relative.hausdorff << "; check_fit.py rms " << rms << " hausdorff " << hausdorff << "\n";
+    EXPECT_NEAR(r.levels[0].relative.rms, rms, 0.2 * rms);
+    EXPECT_NEAR(r.levels[0].relative.hausdorff, hausdorff, 0.2 * hausdorff);
+}
+
+TEST(FitOutputs, TorusReportAgreesWithCheckFit) { check_outputs_against_checker(test::torus_layout(32, 16), 3, "torus"); }
+
+TEST(FitOutputs, SphereReportAgreesWithCheckFit) { check_outputs_against_checker(test::cube_sphere_layout(12), 2, "sphere"); }
+
+TEST(FitOutputs, TessellationErrorFallsQuadratically) {
+    const FitResult r = fit_level(test::cube_sphere_layout(6), 1);
+    const TessellationChoice a = tessellation_error(r.surface, 4), b = tessellation_error(r.surface, 8);
+    EXPECT_GT(a.rms_error, 0);
+    EXPECT_NEAR(b.rms_error / a.rms_error, 0.25, 0.08);
+    const TessellationChoice c = choose_tessellation(r.surface, a.rms_error);  // target a / 10
+    EXPECT_TRUE(c.met);
+    EXPECT_LE(c.rms_error, c.target);
+    EXPECT_GT(c.segments, 4);
+    EXPECT_THROW(choose_tessellation(r.surface, 0.0), InvalidInput);
+}
+
+TEST(FitOutputs, QuadObjAndReportWithoutTessellation) {
+    const layout::QuadLayout layout = test::cube_sphere_layout(4);
+    FitOptions o = fast_options();
+    o.mode = FitMode::Tolerance;
+    o.tolerance = 0.5;  // level 0 already meets it
+    const FitResult r = fit_surface(layout, o);
+    ASSERT_TRUE(r.tolerance_met);
+    const auto report = nlohmann::json::parse(fit_report_json(r, o));
+    EXPECT_EQ(report["mode"], "tolerance");
+    EXPECT_EQ(report["tolerance_met"], true);
+    EXPECT_EQ(report["level"], 0);
+    EXPECT_FALSE(report.contains("limit_tessellation"));
+    const fs::path dir = scratch_dir();
+    write_quad_obj((dir / "cage.obj").string(), r.surface.control_mesh());
+    const Mesh back = read_mesh((dir / "cage.obj").string());
+    ASSERT_EQ(back.num_vertices(), r.surface.control_mesh().num_vertices());
+    for (int v = 0; v < back.num_vertices(); ++v) EXPECT_EQ(back.points[v], r.surface.control_mesh().points[v]);
+    EXPECT_THROW(write_fit_outputs((dir / "x").string(), layout.mesh, FitResult{}, o), InvalidInput);
+}
+
+}  // namespace
+}  // namespace quadcage::fit
