@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <functional>
+#include <fstream>
 #include <iostream>
 #include <map>
 #include <sstream>
@@ -18,6 +19,8 @@
 #include "quadcage/core/shapes.h"
 #include "quadcage/core/validate.h"
 #include "quadcage/fit/backend.h"
+#include "quadcage/fit/fit.h"
+#include "quadcage/fit/outputs.h"
 #include "quadcage/layout/orthogonal_system.h"
 #include "quadcage/layout/quad_layout.h"
 #include "quadcage/subdiv/cage.h"
@@ -250,6 +253,13 @@ LayoutFiles layout_files(const layout::QuadLayout& L, const std::string& dir) {
     return f;
 }
 
+std::string slurp_file(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
 void write_layout_files(const LayoutFiles& f) {
     make_output_dir(f.dir);
     write_ply(output_path(f.dir, "layout.ply"), f.mesh, f.extras);
@@ -307,6 +317,92 @@ int run_layout(const LayoutOptions& o) {
         write_text_file(output_path(o.output_dir, "report.json"), top.dump(2) + "\n");
     }
     progress.say("wrote " + o.output_dir);
+    return kOk;
+}
+
+int run_fit(const FitCommandOptions& o) {
+    Progress progress(o.quiet);
+    progress.say("loading " + o.mesh);
+    const Mesh input = read_mesh(o.mesh);
+    const PreparedMesh prepared = prepare_for_quadding(input, o.mesh);
+    const size_t nc = prepared.components.size();
+    fit::FitOptions fit_options;
+    if (o.tolerance > 0) {
+        fit_options.mode = fit::FitMode::Tolerance;
+        fit_options.tolerance = o.tolerance;
+        fit_options.max_level = o.max_level;
+    } else {
+        fit_options.level = o.level;
+    }
+    if (const std::string e = fit_options.validate(); !e.empty()) throw InvalidInput("fit: " + e);
+    struct Pending {
+        LayoutFiles layout;
+        fit::FitResult fit;
+        double layout_seconds = 0, fit_seconds = 0;
+        const Mesh* mesh = nullptr;
+    };
+    std::vector<Pending> pending;
+    for (size_t c = 0; c < nc; ++c) {
+        const std::string dir = nc == 1 ? o.output_dir : output_path(o.output_dir, "component_" + std::to_string(c));
+        const std::string tag = nc == 1 ? "" : "component " + std::to_string(c) + ": ";
+        layout::QuadLayoutOptions layout_options;
+        layout_options.progress = progress.callback(tag + "layout: ");
+        const double t0 = progress.seconds();
+        const layout::QuadLayout L = layout::build_quad_layout(prepared.components[c], layout_options);
+        const double t1 = progress.seconds();
+        fit::FitOptions options = fit_options;
+        options.progress = progress.callback(tag);
+        Pending p;
+        p.fit = fit::fit_surface(L, options);
+        p.fit_seconds = progress.seconds() - t1;
+        p.layout_seconds = t1 - t0;
+        p.layout = layout_files(L, dir);
+        p.mesh = &prepared.components[c];
+        pending.push_back(std::move(p));
+    }
+    json top = {{"command", "fit"}, {"input", o.mesh}, {"components", nc}};
+    json parts = json::array();
+    for (size_t c = 0; c < pending.size(); ++c) {
+        Pending& p = pending[c];
+        write_layout_files(p.layout);
+        progress.say((nc == 1 ? std::string() : "component " + std::to_string(c) + ": ") + "writing the fitted surface");
+        const fit::FitOutputs written = fit::write_fit_outputs(p.layout.dir, *p.mesh, p.fit, fit_options);
+        // report.json: the fit's report, with the layout's beside it.
+        json report = json::parse(slurp_file(output_path(p.layout.dir, "report.json")));
+        report["command"] = "fit";
+        report["input"] = o.mesh;
+        report["component"] = c;
+        report["components"] = nc;
+        report["genus"] = p.layout.report["genus"];
+        report["quads"] = p.layout.report["quads"];
+        report["layout"] = p.layout.report;
+        report["seconds"] = {{"layout", p.layout_seconds}, {"fit", p.fit_seconds}, {"total", p.layout_seconds + p.fit_seconds}};
+        report["peak_memory_mib"] = peak_memory_mib();
+        write_text_file(output_path(p.layout.dir, "report.json"), report.dump(2) + "\n");
+        parts.push_back(report);
+        if (o.json) continue;
+        const std::string tag = nc == 1 ? "" : "component " + std::to_string(c) + ": ";
+        std::printf("%sgenus %d: %d-quad cage, layout %.2f s, fit %.2f s\n", tag.c_str(), p.layout.report["genus"].get<int>(),
+                    p.layout.report["quads"].get<int>(), p.layout_seconds, p.fit_seconds);
+        for (const fit::LevelReport& l : p.fit.levels)
+            std::printf("%s  level %d: %d control points, relative RMS %.3g, Hausdorff %.3g, %.0f%% of the input within %.3g (%s)\n",
+                        tag.c_str(), l.level, l.control_points, l.relative.rms, l.relative.hausdorff,
+                        100 * l.within_tolerance, fit_options.tolerance, l.stop_reason.c_str());
+        std::printf("%s  %s\n", tag.c_str(), p.fit.message.c_str());
+        std::printf("%s  limit.ply: %lld triangles (tessellation error %.2g of the RMS)\n", tag.c_str(),
+                    written.tessellation.triangles,
+                    p.fit.levels.back().absolute.rms > 0 ? written.tessellation.rms_error / p.fit.levels.back().absolute.rms : 0.0);
+    }
+    if (nc > 1) {
+        top["component_reports"] = parts;
+        top["peak_memory_mib"] = peak_memory_mib();
+        write_text_file(output_path(o.output_dir, "report.json"), top.dump(2) + "\n");
+    }
+    if (o.json) std::cout << (nc == 1 ? parts[0] : top).dump(2) << "\n";
+    progress.say("wrote " + o.output_dir);
+    if (fit_options.mode == fit::FitMode::Tolerance)
+        for (const Pending& p : pending)
+            if (!p.fit.tolerance_met) return kOk;  // reported in the summary and report.json; not an error
     return kOk;
 }
 

@@ -31,6 +31,17 @@ struct LayoutOptions {
 };
 int run_layout(const LayoutOptions& options);
 
+struct FitCommandOptions {
+    std::string mesh;
+    std::string output_dir;
+    int level = 3;            ///< --level K (used unless a tolerance is given).
+    double tolerance = 0;     ///< --tolerance T: fit levels 0, 1, ... until the relative RMS <= T.
+    int max_level = 5;        ///< --max-level with --tolerance.
+    bool json = false;        ///< Print report.json instead of the summary.
+    bool quiet = false;       ///< No progress on stderr.
+};
+int run_fit(const FitCommandOptions& options);
+
 struct GenerateOptions {
     std::string shape;   ///< "sphere", "torus" or "plate".
     int genus = 2;       ///< plate only.

@@ -45,6 +45,26 @@ int main(int argc, char** argv) {
     layout_cmd->add_option("-o,--output", layout.output_dir, "Output directory (created if missing)")->required();
     layout_cmd->add_flag("-q,--quiet", layout.quiet, "No progress messages on stderr");
 
+    FitCommandOptions fitopt;
+    CLI::App* fit_cmd = app.add_subcommand(
+        "fit", "Build the minimal quad layout (as `layout`), then fit the control points of its cage\n"
+               "refined K times so that the Catmull-Clark limit surface matches the mesh (Ceres, OpenSubdiv,\n"
+               "Embree). Writes the layout files and fitted_cage.obj, limit.ply (per-vertex distance to the\n"
+               "input), deviation.ply (the input with per-vertex distance to the surface) and report.json.\n"
+               "Errors are relative to the bounding-box diagonal.");
+    fit_cmd->add_option("MESH", fitopt.mesh, "Closed triangle mesh: OBJ, PLY, OFF or STL")->required();
+    fit_cmd->add_option("-o,--output", fitopt.output_dir, "Output directory (created if missing)")->required();
+    auto* level_opt = fit_cmd->add_option("--level", fitopt.level, "Refinements of the cage to fit (0 = the 8g-8 corners); default 3")
+        ->check(CLI::Range(0, 7));
+    fit_cmd->add_option("--tolerance", fitopt.tolerance,
+                        "Fit levels 0, 1, 2, ... until the relative symmetric RMS error <= T (or --max-level)")
+        ->check(CLI::PositiveNumber)
+        ->excludes(level_opt);
+    fit_cmd->add_option("--max-level", fitopt.max_level, "Highest level tried with --tolerance (default 5)")
+        ->check(CLI::Range(0, 7));
+    fit_cmd->add_flag("--json", fitopt.json, "Print report.json instead of the summary");
+    fit_cmd->add_flag("-q,--quiet", fitopt.quiet, "No progress messages on stderr");
+
     CLI::App* version_cmd = app.add_subcommand(
         "version", "Print the versions of quadcage and the libraries it runs on (each checked by a call).");
 
@@ -117,6 +137,7 @@ int main(int argc, char** argv) {
         if (*version_cmd) return run_version();
         if (*cycles_cmd) return run_cycles(cycles);
         if (*layout_cmd) return run_layout(layout);
+        if (*fit_cmd) return run_fit(fitopt);
         if (*gen_cmd) return run_generate(gen);
         if (*sub_cmd) return run_subdivide(sub);
         if (*render_cmd) return run_render(render);

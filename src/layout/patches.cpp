@@ -242,9 +242,11 @@ void parameterize_patches(QuadLayout* layout) {
                 }
         const int m = static_cast<int>(unknowns.size());
         std::vector<UV> uv_of(m, UV{0.5, 0.5});
-        if (m > 0) {
-            // Clamped cotangent weights: symmetric and positive, so the system is SPD and the map
-            // cannot fold (Tutte / Floater) while staying close to conformal.
+        // Clamped cotangent weights: symmetric and positive, so the system is SPD and the map
+        // cannot fold (Tutte / Floater) while staying close to conformal. In long thin patches the
+        // map squeezes some triangles below rounding; those patches are solved again with Tutte's
+        // uniform weights, which squeeze less.
+        auto solve = [&](bool uniform) {
             std::vector<Eigen::Triplet<double>> entries;
             Eigen::MatrixX2d rhs = Eigen::MatrixX2d::Zero(m, 2);
             std::unordered_map<std::uint64_t, double> weight;
@@ -255,13 +257,13 @@ void parameterize_patches(QuadLayout* layout) {
                     const Vec3 a = mesh.points[i] - mesh.points[o], b = mesh.points[j] - mesh.points[o];
                     const double c = norm(cross(a, b));
                     const double cot = c > 0 ? std::clamp(dot(a, b) / c, -1e3, 1e3) : 1e3;
-                    weight[edge_key(i, j)] += 0.5 * cot;
+                    weight[edge_key(i, j)] += uniform ? 0.5 : 0.5 * cot;
                 }
             }
             std::vector<double> diagonal(m, 0);
             for (const auto& [key, w0] : weight) {
                 const int i = static_cast<int>(key >> 32), j = static_cast<int>(key & 0xffffffffu);
-                const double w = std::max(w0, 0.05);
+                const double w = uniform ? 1.0 : std::max(w0, 0.05);
                 const int li = local[i], lj = local[j];
                 if (li >= 0) diagonal[li] += w;
                 if (lj >= 0) diagonal[lj] += w;
@@ -283,6 +285,19 @@ void parameterize_patches(QuadLayout* layout) {
             QC_CHECK(solver.info() == Eigen::Success, "parameterize_patches: factorisation failed on patch " + std::to_string(q));
             const Eigen::MatrixX2d x = solver.solve(rhs);
             for (int i = 0; i < m; ++i) uv_of[i] = {x(i, 0), x(i, 1)};
+        };
+        auto uv = [&](int v) { return local[v] >= 0 ? uv_of[local[v]] : boundary_uv[v]; };
+        auto folds = [&]() {
+            for (int t : patch_triangles[q]) {
+                const Triangle& tri = mesh.triangles[t];
+                const UV a = uv(tri[0]), b = uv(tri[1]), c = uv(tri[2]);
+                if (!((b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1]) > 0)) return true;
+            }
+            return false;
+        };
+        if (m > 0) {
+            solve(false);
+            if (folds()) solve(true);
         }
         for (int t : patch_triangles[q])
             for (int k = 0; k < 3; ++k) {

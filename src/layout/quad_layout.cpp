@@ -26,7 +26,7 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 // Extra cost (in edge lengths) of walking next to an existing curve; see Builder::cost_near().
 constexpr double kAdjacency = 4.0;
 // Times a search may open the walls around it (split_chords_around) before it gives up.
-constexpr int kRoomAttempts = 12;
+constexpr int kRoomAttempts = 24;
 
 using Say = std::function<void(const std::string&)>;
 
@@ -137,7 +137,7 @@ std::optional<std::vector<int>> route_ring(Builder& b, const std::vector<int>& s
     for (int j = 0, attempt = 0; j < 4; ++attempt) {
         // Room on demand: chords are split only around a search that found no way (splitting all
         // chords before every search lets each new curve hug the last: the mesh grows several-fold).
-        if (attempt > 0 && (attempt > kRoomAttempts || b.open_room(reached) == 0)) return std::nullopt;
+        if (attempt > 0 && (attempt > kRoomAttempts || b.open_room(reached, attempt) == 0)) return std::nullopt;
         label_pieces(b, s_ids, &label);
         const int piece = label[triangle_beside(b.s_, b.curves_[holes[0].curve], holes[0].side)];
         const std::vector<char> block = b.blocked();
@@ -252,7 +252,7 @@ std::vector<int> place_s_cycles(Builder& b, int g, const Say& say) {
         std::vector<int> path;
         std::vector<char> reached;
         for (int attempt = 0; attempt <= kRoomAttempts && path.empty(); ++attempt) {
-            if (attempt > 0 && b.open_room(reached) == 0) break;  // room on demand, as in route_ring()
+            if (attempt > 0 && b.open_room(reached, attempt) == 0) break;  // room on demand, as in route_ring()
             const std::vector<char> block = b.blocked();
             const auto cost = b.cost_near(block, nullptr, kAdjacency);
             const int u = spots[k].u;
@@ -389,7 +389,7 @@ void route_handle(Builder& b, const std::vector<int>& s_ids, const Hole& A, cons
         std::vector<char> reached;
         for (int k = 0, attempt = 0; k < 2 && attempt <= kRoomAttempts; ++attempt) {
             const int from = a[k], to = c[(k + twist) % 2];
-            if (attempt > 0 && trial.open_room(reached) == 0) break;  // room on demand, as in route_ring()
+            if (attempt > 0 && trial.open_room(reached, attempt) == 0) break;  // room on demand, as in route_ring()
             std::vector<int> label;
             label_pieces(trial, s_ids, &label);
             const int piece = label[triangle_beside(trial.s_, trial.curves_[A.curve], A.side)];
@@ -627,26 +627,26 @@ QuadLayout build_quad_layout(const Mesh& input, const QuadLayoutOptions& options
     };
     OrthogonalSystemOptions cycle_options = options.cycles;
     cycle_options.progress = options.progress;
-    // Validates the input (throws InvalidInput) and builds the cycles (none for a sphere).
-    OrthogonalSystem system = build_orthogonal_system(input, cycle_options);
+    // Validates the input (throws InvalidInput as build_orthogonal_system() would).
+    const ValidationReport report = validate(input);
+    if (!report.quaddable() || report.components.size() != 1)
+        throw InvalidInput("build_quad_layout needs one closed, manifold, orientable component: " +
+                           (report.components.size() > 1 ? std::string("the mesh has ") +
+                                                               std::to_string(report.components.size()) + " components"
+                                                         : report.error_summary()));
+    // Coarse meshes get room first (1-to-4 splits: input vertices stay, in order; new ones at edge
+    // midpoints): every handle needs its 2 loops, 4 S-cycles and their arcs to pass one another.
+    const int genus = report.components[0].genus;
+    Mesh mesh = input;
+    while (mesh.num_vertices() < 1000 + 200 * genus) mesh = subdivide_midpoint(mesh);
+    // Builds the cycles (none for a sphere).
+    OrthogonalSystem system = build_orthogonal_system(mesh, cycle_options);
     const int g = system.genus;
 
     QuadLayout out;
     out.input_vertices = input.num_vertices();
     out.genus = g;
     Builder b(system.mesh, cycle_options);
-    // Small meshes get room first: 1-to-4 splits (input vertices stay, new ones at edge midpoints).
-    while (b.s_.num_vertices() < 400 + 50 * g) {
-        std::vector<std::pair<int, int>> edges;
-        for (int h = 0; h < b.s_.num_half_edges(); ++h)
-            if (b.s_.from(h) < b.s_.to(h)) edges.push_back({b.s_.from(h), b.s_.to(h)});
-        for (const Cycle& c : system.cycles) b.add_curve(c);  // keep the cycles on the refined mesh
-        b.split_curve_edges(edges);
-        for (size_t i = 0; i < system.cycles.size(); ++i) system.cycles[i] = b.curves_[i];
-        b.curves_.clear();
-        b.obstacle_.clear();
-        b.closed_.clear();
-    }
     for (const Cycle& c : system.cycles) b.add_curve(c);
     const double t_cycles = clock();
 

@@ -317,13 +317,15 @@ TEST_F(QuadLayoutCli, PlateGenus6PassesTheCheckers) {
 }
 
 TEST_F(QuadLayoutCli, CheckerRejectsABrokenLayout) {
-    // The end-to-end check means something only if the checker fails on a broken layout too.
+    // The end-to-end check means something only if the checker fails on a broken layout too:
+    // two neighbouring patches merged into one (a hexagon with 6 corners; 9 quads for genus 2).
     const std::string why = test::python_unavailable();
     if (!why.empty()) GTEST_SKIP() << "checkers not run: " << why;
     QuadLayout L = build_quad_layout(plate(2));
-    const auto& path = L.edge_paths[0];
-    const int t = triangle_with(L.mesh, path[1], path[2]);
-    L.triangle_patch[t] = L.triangle_patch[t] == L.cage.edges[0].quads[0] ? L.cage.edges[0].quads[1] : L.cage.edges[0].quads[0];
+    const int keep = L.cage.edges[0].quads[0], gone = L.cage.edges[0].quads[1];
+    ASSERT_NE(keep, gone);
+    for (int& p : L.triangle_patch)
+        if (p == gone) p = keep;
     PlyExtras extras;
     extras.face_int_name = "patch";
     extras.face_ints = L.triangle_patch;

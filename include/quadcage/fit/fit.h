@@ -199,3 +199,20 @@ std::vector<double> distances_to_surface(const FittedSurface& surface, const std
                                          int search_segments = 32, int threads = 0);
 
 }  // namespace quadcage::fit
+
+namespace quadcage::fit {
+
+/// Layout and fit together: what a CAD exporter calls without the CLI.
+struct CageFit {
+    layout::QuadLayout layout;  ///< The minimal quad layout (its cage is the level-0 control cage).
+    FitResult fit;              ///< The fitted surface (evaluate it with fit.surface) and its report.
+};
+
+/// Mesh in, layout + fitted cage + report out: build_quad_layout() then fit_surface().
+/// \pre mesh is one closed, connected, orientable manifold component, oriented outward
+///      (core::prepare_for_quadding() splits and orients a general mesh).
+/// \throw InvalidInput if the mesh or the options are invalid.
+CageFit fit_cage(const Mesh& mesh, const layout::QuadLayoutOptions& layout_options = {},
+                 const FitOptions& fit_options = {});
+
+}  // namespace quadcage::fit
