@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The two quick-start commands of the README:
-#   tools/dev.sh demo   install what is missing, build, run quadcage on the bundled mesh data/eight.off (-> out/eight)
+#   tools/dev.sh demo   install what is missing, build, fit a cage to the bundled mesh data/eight.off (-> out/eight)
 #   tools/dev.sh test   install what is missing, build, run every test (ctest)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -15,7 +15,7 @@ cmake --build build -j"$jobs"
 
 if [ "$what" = demo ]; then
   ./build/quadcage info data/eight.off
-  ./build/quadcage cycles data/eight.off -o out/eight
+  ./build/quadcage fit data/eight.off -o out/eight   # layout (10 quads) + Catmull-Clark fit at level 3
   exit 0
 fi
 

@@ -74,7 +74,8 @@ int Builder::split_chords(const std::vector<Cycle>& extra) {
         for (size_t i = 0; i + (closed ? 0 : 1) < n; ++i) curve_edges.insert(edge_key(c[i], c[(i + 1) % n]));
     };
     for (size_t c = 0; c < curves_.size(); ++c)
-        if (obstacle_[c]) add(curves_[c], closed_[c]);  // an edge of a curve that is no obstacle is a chord too
+        if (obstacle_[c])
+            add(curves_[c], closed_[c]);  // an edge of a curve that is no obstacle is a chord too
     for (const Cycle& c : extra) {
         add(c, false);
         for (int v : c) on[v] = 1;
@@ -96,7 +97,8 @@ int Builder::split_chords_around(const std::vector<char>& reached) {
         if (!obstacle_[c]) continue;
         const Cycle& cv = curves_[c];
         const size_t n = cv.size();
-        for (size_t i = 0; i + (closed_[c] ? 0 : 1) < n; ++i) curve_edges.insert(edge_key(cv[i], cv[(i + 1) % n]));
+        for (size_t i = 0; i + (closed_[c] ? 0 : 1) < n; ++i)
+            curve_edges.insert(edge_key(cv[i], cv[(i + 1) % n]));
     }
     auto is_chord = [&](int h) {
         const int a = s_.from(h), b = s_.to(h);
@@ -148,12 +150,13 @@ void Builder::split_curve_edges(const std::vector<std::pair<int, int>>& edges) {
     insert_midpoints(closed, split);
     insert_midpoints_open(open, split);
     size_t ic = 0, io = 0;
-    for (size_t c = 0; c < curves_.size(); ++c) curves_[c] = std::move(closed_[c] ? closed[ic++] : open[io++]);
+    for (size_t c = 0; c < curves_.size(); ++c)
+        curves_[c] = std::move(closed_[c] ? closed[ic++] : open[io++]);
     splits_ += static_cast<int>(edges.size());
 }
 
-std::function<double(int)> Builder::cost_near(const std::vector<char>& block, const std::vector<char>* outside,
-                                              double adjacency) const {
+std::function<double(int)> Builder::cost_near(const std::vector<char>& block,
+                                              const std::vector<char>* outside, double adjacency) const {
     if (o_.repulsion <= 0 && adjacency <= 0) return {};
     PathSearch q;
     for (int v = 0; v < s_.num_vertices(); ++v)
@@ -210,7 +213,8 @@ std::vector<int> Builder::sector_path(int x, const std::vector<int>& from_sector
     return r.path_to(s_, r.target);
 }
 
-void insert_midpoints_open(std::vector<std::vector<int>>& paths, const std::vector<std::array<int, 3>>& split) {
+void insert_midpoints_open(std::vector<std::vector<int>>& paths,
+                           const std::vector<std::array<int, 3>>& split) {
     if (split.empty()) return;
     std::map<std::pair<int, int>, int> mid;
     for (const auto& s : split) mid[{std::min(s[0], s[1]), std::max(s[0], s[1])}] = s[2];

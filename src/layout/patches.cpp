@@ -46,10 +46,14 @@ void quad_boundary(const QuadLayout& layout, int q, std::vector<int>* loop, std:
 
 UV side_point(int k, double t) {
     switch (k) {
-        case 0: return {t, 0.0};
-        case 1: return {1.0, t};
-        case 2: return {1.0 - t, 1.0};
-        default: return {0.0, 1.0 - t};
+        case 0:
+            return {t, 0.0};
+        case 1:
+            return {1.0, t};
+        case 2:
+            return {1.0 - t, 1.0};
+        default:
+            return {0.0, 1.0 - t};
     }
 }
 
@@ -101,8 +105,8 @@ int next_cut_half_edge(const Surface& s, const std::vector<char>& cut, int h) {
     return g;
 }
 
-std::string extract_cage(const Surface& s, const std::vector<int>& corners, const std::vector<std::vector<int>>& paths,
-                         QuadLayout* layout) {
+std::string extract_cage(const Surface& s, const std::vector<int>& corners,
+                         const std::vector<std::vector<int>>& paths, QuadLayout* layout) {
     const int n = s.num_vertices();
     std::vector<int> cid(n, -1);
     for (size_t c = 0; c < corners.size(); ++c) cid[corners[c]] = static_cast<int>(c);
@@ -146,8 +150,9 @@ std::string extract_cage(const Surface& s, const std::vector<int>& corners, cons
         std::vector<int> last(n, -1);
         for (int t = 0; t < s.num_half_edges() / 3; ++t)
             for (int v : s.mesh().triangles[t])
-                if (last[v] != label[t] ) {
-                    // A vertex may be visited by the same patch more than once non-consecutively: dedupe below.
+                if (last[v] != label[t]) {
+                    // A vertex may be visited by the same patch more than once non-consecutively: dedupe
+                    // below.
                     patch_vertices[label[t]].push_back(v);
                     last[v] = label[t];
                 }
@@ -159,26 +164,31 @@ std::string extract_cage(const Surface& s, const std::vector<int>& corners, cons
     for (int p = 0; p < np; ++p) {
         const long edges = (3L * faces[p] + boundary_count[p]) / 2;
         const long chi = static_cast<long>(patch_vertices[p].size()) - edges + faces[p];
-        if (chi != 1) return "patch " + std::to_string(p) + " is not a disk (Euler characteristic " + std::to_string(chi) + ")";
+        if (chi != 1)
+            return "patch " + std::to_string(p) + " is not a disk (Euler characteristic " +
+                   std::to_string(chi) + ")";
         if (start[p] < 0) return "patch " + std::to_string(p) + " has no corner on its boundary";
         std::vector<int> loop;
         int h = start[p];
         do {
             loop.push_back(h);
             h = next_cut_half_edge(s, cut, h);
-            if (loop.size() > static_cast<size_t>(boundary_count[p])) return "patch " + std::to_string(p) + " boundary does not close";
+            if (loop.size() > static_cast<size_t>(boundary_count[p]))
+                return "patch " + std::to_string(p) + " boundary does not close";
         } while (h != start[p]);
         if (static_cast<int>(loop.size()) != boundary_count[p])
             return "patch " + std::to_string(p) + " has more than one boundary loop";
         std::vector<int> at;  // loop positions of corners
         for (size_t i = 0; i < loop.size(); ++i)
             if (cid[s.from(loop[i])] >= 0) at.push_back(static_cast<int>(i));
-        if (at.size() != 4) return "patch " + std::to_string(p) + " has " + std::to_string(at.size()) + " corners, not 4";
+        if (at.size() != 4)
+            return "patch " + std::to_string(p) + " has " + std::to_string(at.size()) + " corners, not 4";
         subdiv::Cage::Quad quad;
         for (int k = 0; k < 4; ++k) {
             quad.corners[k] = cid[s.from(loop[at[k]])];
             for (int j = 0; j < k; ++j)
-                if (quad.corners[j] == quad.corners[k]) return "patch " + std::to_string(p) + " meets a corner twice";
+                if (quad.corners[j] == quad.corners[k])
+                    return "patch " + std::to_string(p) + " meets a corner twice";
             const int first = loop[at[k]];
             const auto it = path_of_edge.find(edge_key(s.from(first), s.to(first)));
             QC_CHECK(it != path_of_edge.end(), "extract_cage: boundary edge on no layout edge");
@@ -186,21 +196,26 @@ std::string extract_cage(const Surface& s, const std::vector<int>& corners, cons
             // The side must be the whole layout edge.
             const int end_pos = at[(k + 1) % 4];
             std::vector<int> side{s.from(first)};
-            for (int i = at[k]; i != end_pos; i = (i + 1) % static_cast<int>(loop.size())) side.push_back(s.to(loop[i]));
+            for (int i = at[k]; i != end_pos; i = (i + 1) % static_cast<int>(loop.size()))
+                side.push_back(s.to(loop[i]));
             std::vector<int> path = paths[e];
             if (path.front() != side.front()) std::reverse(path.begin(), path.end());
-            if (path != side) return "patch " + std::to_string(p) + " side " + std::to_string(k) + " is not one layout edge";
+            if (path != side)
+                return "patch " + std::to_string(p) + " side " + std::to_string(k) +
+                       " is not one layout edge";
             quad.edges[k] = e;
             auto& edge = cage.edges[e];
             const int slot = edge.quads[0] < 0 ? 0 : 1;
-            if (edge.quads[slot] >= 0) return "layout edge " + std::to_string(e) + " borders more than two patch sides";
+            if (edge.quads[slot] >= 0)
+                return "layout edge " + std::to_string(e) + " borders more than two patch sides";
             edge.quads[slot] = p;
             edge.sides[slot] = k;
         }
         cage.quads.push_back(quad);
     }
     for (size_t e = 0; e < cage.edges.size(); ++e)
-        if (cage.edges[e].quads[1] < 0) return "layout edge " + std::to_string(e) + " borders fewer than two patch sides";
+        if (cage.edges[e].quads[1] < 0)
+            return "layout edge " + std::to_string(e) + " borders fewer than two patch sides";
     if (const std::string problem = subdiv::check_cage(cage); !problem.empty()) return "cage: " + problem;
     layout->cage = std::move(cage);
     layout->corner_vertex = corners;
@@ -215,7 +230,7 @@ void parameterize_patches(QuadLayout* layout) {
     std::vector<std::vector<int>> patch_triangles(nq);
     for (int t = 0; t < nt; ++t) patch_triangles[layout->triangle_patch[t]].push_back(t);
     layout->corner_uv.assign(nt, {});
-    std::vector<int> local(n, -1);     // index among the patch's unknowns, or -2 on its boundary
+    std::vector<int> local(n, -1);  // index among the patch's unknowns, or -2 on its boundary
     std::vector<UV> boundary_uv(n);
     std::vector<int> loop, side;
     for (int q = 0; q < nq; ++q) {
@@ -282,7 +297,8 @@ void parameterize_patches(QuadLayout* layout) {
             Eigen::SparseMatrix<double> A(m, m);
             A.setFromTriplets(entries.begin(), entries.end());
             Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(A);
-            QC_CHECK(solver.info() == Eigen::Success, "parameterize_patches: factorisation failed on patch " + std::to_string(q));
+            QC_CHECK(solver.info() == Eigen::Success,
+                     "parameterize_patches: factorisation failed on patch " + std::to_string(q));
             const Eigen::MatrixX2d x = solver.solve(rhs);
             for (int i = 0; i < m; ++i) uv_of[i] = {x(i, 0), x(i, 1)};
         };
@@ -316,7 +332,8 @@ void measure_quality(QuadLayout* layout) {
     const double area = surface_area(mesh);
     // Patch areas.
     std::vector<double> patch_area(layout->cage.num_quads(), 0);
-    for (int t = 0; t < mesh.num_triangles(); ++t) patch_area[layout->triangle_patch[t]] += triangle_area(mesh, t);
+    for (int t = 0; t < mesh.num_triangles(); ++t)
+        patch_area[layout->triangle_patch[t]] += triangle_area(mesh, t);
     const auto [lo, hi] = std::minmax_element(patch_area.begin(), patch_area.end());
     qual.patch_area_max_over_min = *lo > 0 ? *hi / *lo : std::numeric_limits<double>::infinity();
     // Total layout edge length.
@@ -336,7 +353,8 @@ void measure_quality(QuadLayout* layout) {
             const double l = norm(mesh.points[path[i + 1]] - mesh.points[path[i]]);
             if (run + l >= r) {
                 const double f = l > 0 ? (r - run) / l : 0;
-                return mesh.points[path[i]] + (mesh.points[path[i + 1]] - mesh.points[path[i]]) * f - mesh.points[path[0]];
+                return mesh.points[path[i]] + (mesh.points[path[i + 1]] - mesh.points[path[i]]) * f -
+                       mesh.points[path[0]];
             }
             run += l;
         }
@@ -359,7 +377,8 @@ void measure_quality(QuadLayout* layout) {
         const std::vector<int> ring = s.ring(v);
         auto& dirs = leaving[c];
         std::sort(dirs.begin(), dirs.end(), [&](const auto& a, const auto& b) {
-            return std::find(ring.begin(), ring.end(), a.first) < std::find(ring.begin(), ring.end(), b.first);
+            return std::find(ring.begin(), ring.end(), a.first) <
+                   std::find(ring.begin(), ring.end(), b.first);
         });
         const Vec3 nrm = vertex_normal(s, v);
         std::vector<double> angle;
@@ -388,12 +407,14 @@ void measure_quality(QuadLayout* layout) {
     for (int t = 0; t < mesh.num_triangles(); ++t) {
         const Triangle& tri = mesh.triangles[t];
         const auto& uv = layout->corner_uv[t];
-        const double uv_area = 0.5 * ((uv[1][0] - uv[0][0]) * (uv[2][1] - uv[0][1]) - (uv[2][0] - uv[0][0]) * (uv[1][1] - uv[0][1]));
+        const double uv_area = 0.5 * ((uv[1][0] - uv[0][0]) * (uv[2][1] - uv[0][1]) -
+                                      (uv[2][0] - uv[0][0]) * (uv[1][1] - uv[0][1]));
         if (!(uv_area > 0)) {
             ++qual.flipped_triangles;
             continue;
         }
-        const Vec3 e1 = mesh.points[tri[1]] - mesh.points[tri[0]], e2 = mesh.points[tri[2]] - mesh.points[tri[0]];
+        const Vec3 e1 = mesh.points[tri[1]] - mesh.points[tri[0]],
+                   e2 = mesh.points[tri[2]] - mesh.points[tri[0]];
         const double l1 = norm(e1);
         const double a3 = norm(cross(e1, e2));
         if (!(l1 > 0) || !(a3 > 0)) continue;

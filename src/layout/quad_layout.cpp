@@ -33,10 +33,10 @@ using Say = std::function<void(const std::string&)>;
 // The layout curves, as indices into a Builder's curves (which follow every split), plus the
 // corners they carry.
 struct Network {
-    std::vector<int> corners;                  // mesh vertices
+    std::vector<int> corners;                              // mesh vertices
     std::vector<std::pair<int, std::vector<int>>> closed;  // closed curve -> its corners (cut there)
-    std::vector<int> arcs;                     // open curves from a corner to a corner
-    std::vector<int> s_cycles;                 // Algorithm 1's S_i (g >= 2)
+    std::vector<int> arcs;                                 // open curves from a corner to a corner
+    std::vector<int> s_cycles;                             // Algorithm 1's S_i (g >= 2)
 };
 
 double path_length(const Mesh& m, const std::vector<int>& p) {
@@ -90,11 +90,13 @@ int triangle_beside(const Surface& s, const Cycle& c, int side) {
 
 // The neighbours of x (on closed curve c) strictly inside the side of c whose triangles carry
 // `piece`, in rotation (counter-clockwise) order.
-std::vector<int> side_toward(const Surface& s, const Cycle& c, int x, const std::vector<int>& label, int piece) {
+std::vector<int> side_toward(const Surface& s, const Cycle& c, int x, const std::vector<int>& label,
+                             int piece) {
     const auto [prev, next] = neighbours_on(c, x);
     auto sec = sectors(s, x, prev, next);
     if (label[s.find_half_edge(x, prev) / 3] == piece) return sec[0];
-    QC_CHECK(label[s.find_half_edge(x, next) / 3] == piece, "side_toward: neither side of the curve is in the piece");
+    QC_CHECK(label[s.find_half_edge(x, next) / 3] == piece,
+             "side_toward: neither side of the curve is in the piece");
     return sec[1];
 }
 
@@ -129,15 +131,17 @@ struct Hole {
 // x0 -> x1 -> x2 -> x3 at every corner, else to the left; at each corner the face sector (between
 // the arriving and the leaving arc) is kept clear of the hole: design.md §2, "Routing a ring".
 // Returns the new curve ids, or nothing if some arc cannot be routed.
-std::optional<std::vector<int>> route_ring(Builder& b, const std::vector<int>& s_ids, const std::array<Hole, 4>& holes,
-                                           const std::array<int, 4>& x, bool face_right, double* length) {
+std::optional<std::vector<int>> route_ring(Builder& b, const std::vector<int>& s_ids,
+                                           const std::array<Hole, 4>& holes, const std::array<int, 4>& x,
+                                           bool face_right, double* length) {
     std::vector<int> arcs;
     std::vector<int> label;
     std::vector<char> reached;
     for (int j = 0, attempt = 0; j < 4; ++attempt) {
         // Room on demand: chords are split only around a search that found no way (splitting all
         // chords before every search lets each new curve hug the last: the mesh grows several-fold).
-        if (attempt > 0 && (attempt > kRoomAttempts || b.open_room(reached, attempt) == 0)) return std::nullopt;
+        if (attempt > 0 && (attempt > kRoomAttempts || b.open_room(reached, attempt) == 0))
+            return std::nullopt;
         label_pieces(b, s_ids, &label);
         const int piece = label[triangle_beside(b.s_, b.curves_[holes[0].curve], holes[0].side)];
         const std::vector<char> block = b.blocked();
@@ -159,7 +163,8 @@ std::optional<std::vector<int>> route_ring(Builder& b, const std::vector<int>& s
             arrive = face_right ? slice(there, 0, i) : slice(there, i + 1, static_cast<int>(there.size()));
         }
         double cost_total = 0;
-        const std::vector<int> interior = b.sector_path(x[j], leave, x[jn], arrive, block, cost, &cost_total, &reached);
+        const std::vector<int> interior =
+            b.sector_path(x[j], leave, x[jn], arrive, block, cost, &cost_total, &reached);
         if (interior.empty()) continue;
         Cycle arc{x[j]};
         arc.insert(arc.end(), interior.begin(), interior.end());
@@ -208,7 +213,8 @@ std::vector<int> place_s_cycles(Builder& b, int g, const Say& say) {
             const Cycle& c = b.curves_[bi];
             const int p1 = common_vertex(b.curves_[bi - 1], c);
             const size_t i1 = static_cast<size_t>(index_in(c, p1));
-            const int p2 = h < g ? common_vertex(c, b.curves_[bi + 1]) : vertex_at_fraction(b.s_.mesh(), c, i1, 0.5);
+            const int p2 =
+                h < g ? common_vertex(c, b.curves_[bi + 1]) : vertex_at_fraction(b.s_.mesh(), c, i1, 0.5);
             const size_t i2 = static_cast<size_t>(index_in(c, p2));
             const size_t n = c.size();
             const size_t arc1 = (i2 + n - i1) % n - 1, arc2 = (i1 + n - i2) % n - 1;
@@ -252,7 +258,8 @@ std::vector<int> place_s_cycles(Builder& b, int g, const Say& say) {
         std::vector<int> path;
         std::vector<char> reached;
         for (int attempt = 0; attempt <= kRoomAttempts && path.empty(); ++attempt) {
-            if (attempt > 0 && b.open_room(reached, attempt) == 0) break;  // room on demand, as in route_ring()
+            if (attempt > 0 && b.open_room(reached, attempt) == 0)
+                break;  // room on demand, as in route_ring()
             const std::vector<char> block = b.blocked();
             const auto cost = b.cost_near(block, nullptr, kAdjacency);
             const int u = spots[k].u;
@@ -276,8 +283,8 @@ struct Pieces {
 Pieces find_pieces(const Builder& b, const std::vector<int>& s_ids, int g) {
     std::vector<int> label;
     const int count = label_pieces(b, s_ids, &label);
-    QC_CHECK(count == 3 * g - 3, "the S-cycles cut " + std::to_string(count) + " pieces, want 3g-3 = " +
-                                     std::to_string(3 * g - 3));
+    QC_CHECK(count == 3 * g - 3, "the S-cycles cut " + std::to_string(count) +
+                                     " pieces, want 3g-3 = " + std::to_string(3 * g - 3));
     Pieces out;
     out.holes.resize(count);
     for (int id : s_ids)
@@ -285,15 +292,20 @@ Pieces find_pieces(const Builder& b, const std::vector<int>& s_ids, int g) {
             out.holes[label[triangle_beside(b.s_, b.curves_[id], side)]].push_back({id, side});
     int annuli = 0, shirts = 0;
     for (const auto& h : out.holes) {
-        if (h.size() == 2) ++annuli;
-        else if (h.size() == 4) ++shirts;
-        else QC_CHECK(false, "a piece has " + std::to_string(h.size()) + " boundary cycles (want 2 or 4)");
+        if (h.size() == 2)
+            ++annuli;
+        else if (h.size() == 4)
+            ++shirts;
+        else
+            QC_CHECK(false, "a piece has " + std::to_string(h.size()) + " boundary cycles (want 2 or 4)");
     }
-    QC_CHECK(annuli == 2 * g - 2 && shirts == g - 1, "pieces: " + std::to_string(annuli) + " handles and " +
-                                                         std::to_string(shirts) + " T-shirts");
+    QC_CHECK(annuli == 2 * g - 2 && shirts == g - 1,
+             "pieces: " + std::to_string(annuli) + " handles and " + std::to_string(shirts) + " T-shirts");
     for (int id : s_ids) {
-        const int l0 = label[triangle_beside(b.s_, b.curves_[id], 0)], l1 = label[triangle_beside(b.s_, b.curves_[id], 1)];
-        QC_CHECK(out.holes[l0].size() != out.holes[l1].size(), "an S-cycle does not separate a handle from a T-shirt");
+        const int l0 = label[triangle_beside(b.s_, b.curves_[id], 0)],
+                  l1 = label[triangle_beside(b.s_, b.curves_[id], 1)];
+        QC_CHECK(out.holes[l0].size() != out.holes[l1].size(),
+                 "an S-cycle does not separate a handle from a T-shirt");
     }
     return out;
 }
@@ -303,7 +315,8 @@ Pieces find_pieces(const Builder& b, const std::vector<int>& s_ids, int g) {
 // directions and keeps the shortest pair of rings. Adds the rings to b and returns, per hole, its
 // (bottom, top) corners.
 std::vector<std::pair<Hole, std::array<int, 2>>> route_tshirt(Builder& b, const std::vector<int>& s_ids,
-                                                               const std::vector<Hole>& holes, std::vector<int>* arcs) {
+                                                              const std::vector<Hole>& holes,
+                                                              std::vector<int>* arcs) {
     std::vector<int> label;
     label_pieces(b, s_ids, &label);
     const int piece = label[triangle_beside(b.s_, b.curves_[holes[0].curve], holes[0].side)];
@@ -313,7 +326,8 @@ std::vector<std::pair<Hole, std::array<int, 2>>> route_tshirt(Builder& b, const 
     std::array<std::vector<double>, 4> field;
     for (int k = 0; k < 4; ++k) field[k] = hole_distances(b, label, piece, holes[k].curve, on_s);
     // The 3 cyclic orders of 4 holes, each in both directions (entries 2i and 2i+1).
-    static const int kOrders[6][4] = {{0, 1, 2, 3}, {0, 3, 2, 1}, {0, 1, 3, 2}, {0, 2, 3, 1}, {0, 2, 1, 3}, {0, 3, 1, 2}};
+    static const int kOrders[6][4] = {{0, 1, 2, 3}, {0, 3, 2, 1}, {0, 1, 3, 2},
+                                      {0, 2, 3, 1}, {0, 2, 1, 3}, {0, 3, 1, 2}};
     struct Plan {
         std::array<Hole, 4> holes;
         std::array<int, 4> bottom{}, top{};
@@ -362,7 +376,8 @@ std::vector<std::pair<Hole, std::array<int, 2>>> route_tshirt(Builder& b, const 
             if (!high_ring || length >= best) continue;
             best = length;
             best_corners.clear();
-            for (int j = 0; j < 4; ++j) best_corners.push_back({plan.holes[j], {plan.bottom[j], plan.top[j]}});
+            for (int j = 0; j < 4; ++j)
+                best_corners.push_back({plan.holes[j], {plan.bottom[j], plan.top[j]}});
             best_arcs = *low_ring;
             best_arcs.insert(best_arcs.end(), high_ring->begin(), high_ring->end());
             best_builder.emplace(std::move(trial));
@@ -377,8 +392,8 @@ std::vector<std::pair<Hole, std::array<int, 2>>> route_tshirt(Builder& b, const 
 
 // A handle (annulus between holes A and B, 2 corners each) becomes 2 quads: two arcs across it.
 // Both pairings (twists) are tried; the shorter is kept.
-void route_handle(Builder& b, const std::vector<int>& s_ids, const Hole& A, const std::array<int, 2>& a, const Hole& B,
-                  const std::array<int, 2>& c, std::vector<int>* arcs) {
+void route_handle(Builder& b, const std::vector<int>& s_ids, const Hole& A, const std::array<int, 2>& a,
+                  const Hole& B, const std::array<int, 2>& c, std::vector<int>* arcs) {
     double best = kInf;
     std::optional<Builder> best_builder;
     std::vector<int> best_arcs;
@@ -389,7 +404,8 @@ void route_handle(Builder& b, const std::vector<int>& s_ids, const Hole& A, cons
         std::vector<char> reached;
         for (int k = 0, attempt = 0; k < 2 && attempt <= kRoomAttempts; ++attempt) {
             const int from = a[k], to = c[(k + twist) % 2];
-            if (attempt > 0 && trial.open_room(reached, attempt) == 0) break;  // room on demand, as in route_ring()
+            if (attempt > 0 && trial.open_room(reached, attempt) == 0)
+                break;  // room on demand, as in route_ring()
             std::vector<int> label;
             label_pieces(trial, s_ids, &label);
             const int piece = label[triangle_beside(trial.s_, trial.curves_[A.curve], A.side)];
@@ -398,7 +414,8 @@ void route_handle(Builder& b, const std::vector<int>& s_ids, const Hole& A, cons
             const auto cost = trial.cost_near(block, &outside, kAdjacency);
             const auto leave = side_toward(trial.s_, trial.curves_[A.curve], from, label, piece);
             const auto arrive = side_toward(trial.s_, trial.curves_[B.curve], to, label, piece);
-            const std::vector<int> interior = trial.sector_path(from, leave, to, arrive, block, cost, nullptr, &reached);
+            const std::vector<int> interior =
+                trial.sector_path(from, leave, to, arrive, block, cost, nullptr, &reached);
             if (interior.empty()) continue;
             Cycle arc{from};
             arc.insert(arc.end(), interior.begin(), interior.end());
@@ -440,8 +457,8 @@ Network network_of_handles_and_tshirts(Builder& b, int g, const Say& say) {
     for (const auto& holes : pieces.holes) {
         if (holes.size() != 2) continue;
         say("handle " + std::to_string(++handle) + " of " + std::to_string(2 * g - 2));
-        route_handle(b, net.s_cycles, holes[0], corners_on[holes[0].curve], holes[1], corners_on[holes[1].curve],
-                     &net.arcs);
+        route_handle(b, net.s_cycles, holes[0], corners_on[holes[0].curve], holes[1],
+                     corners_on[holes[1].curve], &net.arcs);
     }
     for (int id : net.s_cycles) net.closed.push_back({id, {corners_on[id][0], corners_on[id][1]}});
     return net;
@@ -463,7 +480,8 @@ Network network_of_torus(Builder& b, const Say& say) {
     const int v = common_vertex(b.curves_[a], b.curves_[bb]);
     say("second meridian");
     // Second meridian: crosses b1 once, at the vertex half-way round from v.
-    const int u = vertex_at_fraction(b.s_.mesh(), b.curves_[bb], static_cast<size_t>(index_in(b.curves_[bb], v)), 0.5);
+    const int u =
+        vertex_at_fraction(b.s_.mesh(), b.curves_[bb], static_cast<size_t>(index_in(b.curves_[bb], v)), 0.5);
     int alpha = -1;
     {
         b.split_chords();
@@ -480,7 +498,8 @@ Network network_of_torus(Builder& b, const Say& say) {
     say("second longitude");
     // Second longitude: from w (half-way round a1 from v) across one annulus to a vertex y of the
     // second meridian, then back across the other annulus; both sides tried.
-    const int w = vertex_at_fraction(b.s_.mesh(), b.curves_[a], static_cast<size_t>(index_in(b.curves_[a], v)), 0.5);
+    const int w =
+        vertex_at_fraction(b.s_.mesh(), b.curves_[a], static_cast<size_t>(index_in(b.curves_[a], v)), 0.5);
     double best = kInf;
     std::optional<Builder> best_builder;
     int best_beta = -1, best_y = -1;
@@ -527,7 +546,8 @@ Network network_of_torus(Builder& b, const Say& say) {
         const int other = index_in(sec_y[0], arrived) >= 0 ? 1 : 0;
         const auto [pw2, nw2] = neighbours_on(t.curves_[a], w);
         const auto sec_w2 = sectors(t.s_, w, pw2, nw2);
-        const std::vector<int> second = t.sector_path(y, sec_y[other], w, sec_w2[1 - side], block2, cost2, nullptr);
+        const std::vector<int> second =
+            t.sector_path(y, sec_y[other], w, sec_w2[1 - side], block2, cost2, nullptr);
         if (second.empty()) continue;
         Cycle beta = t.curves_[half_id];
         beta.insert(beta.end(), second.begin(), second.end());
@@ -563,7 +583,8 @@ Network network_of_cube(Builder& b, const Say& say) {
     Eigen::Matrix3d axes = eig.eigenvectors();  // columns, ascending eigenvalues
     Eigen::Vector3d e1 = axes.col(2), e2 = axes.col(1);
     Eigen::Vector3d e3 = e1.cross(e2);
-    const Eigen::Vector3d scale(std::sqrt(std::max(eig.eigenvalues()(2), 1e-300)), std::sqrt(std::max(eig.eigenvalues()(1), 1e-300)),
+    const Eigen::Vector3d scale(std::sqrt(std::max(eig.eigenvalues()(2), 1e-300)),
+                                std::sqrt(std::max(eig.eigenvalues()(1), 1e-300)),
                                 std::sqrt(std::max(eig.eigenvalues()(0), 1e-300)));
     // Octant (sx, sy, sz) -> corner index: bottom ring (sz < 0) j = 0..3, top ring 4 + j, with j
     // running (-,-), (+,-), (+,+), (-,+): counter-clockwise about e3.
@@ -578,7 +599,8 @@ Network network_of_cube(Builder& b, const Say& say) {
         for (int v = 0; v < m.num_vertices(); ++v) {
             if (taken[v]) continue;
             const Eigen::Vector3d d = Eigen::Vector3d(m.points[v].x, m.points[v].y, m.points[v].z) - mean;
-            const double score = sx[j] * d.dot(e1) / scale(0) + sy[j] * d.dot(e2) / scale(1) + sz * d.dot(e3) / scale(2);
+            const double score =
+                sx[j] * d.dot(e1) / scale(0) + sy[j] * d.dot(e2) / scale(1) + sz * d.dot(e3) / scale(2);
             if (score > best) {
                 best = score;
                 pick = v;
@@ -613,9 +635,99 @@ Network network_of_cube(Builder& b, const Say& say) {
     return net;
 }
 
+// Removes hairpins from a layout curve: where the curve comes back next to itself (p_i adjacent to
+// p_j, j > i + 1) around a small disk that holds nothing else (no vertex of another curve in
+// `dirty`, no corner), the detour is replaced by the edge p_i p_j. Shortest paths that must enter
+// a corner's sector from one side make such detours; left in place, the one-vertex-wide sliver
+// between its branches squeezes the patch map below rounding. Returns the number of shortcuts.
+int remove_hairpins(const Surface& s, Cycle& c, bool closed, const std::vector<char>& dirty,
+                    const std::vector<char>& corner) {
+    int shortcuts = 0;
+    const int nt = s.num_half_edges() / 3;
+    std::vector<int> pos(s.num_vertices(), -1);
+    std::vector<int> seen(nt, -1);
+    int stamp = 0;
+    for (bool changed = true; changed;) {
+        changed = false;
+        std::fill(pos.begin(), pos.end(), -1);
+        for (size_t i = 0; i < c.size(); ++i) pos[c[i]] = static_cast<int>(i);
+        const int n = static_cast<int>(c.size());
+        for (int i = 0; i + 2 < n && !changed; ++i) {
+            // Shortcuts from p_i: an edge to a later p_j, or two edges through a free vertex m.
+            std::vector<std::pair<int, int>> options;  // (j, m or -1)
+            for (int w : s.ring(c[i])) {
+                if (pos[w] > i + 1)
+                    options.push_back({pos[w], -1});
+                else if (pos[w] < 0 && !dirty[w] && !corner[w])
+                    for (int u : s.ring(w))
+                        if (pos[u] > i + 2) options.push_back({pos[u], w});
+            }
+            std::sort(options.begin(), options.end(), [](const auto& x, const auto& y) {
+                return x.first != y.first ? x.first > y.first : x.second < y.second;  // longest detour first
+            });
+            for (const auto& [j, m] : options) {
+                if (closed && i == 0 && j == n - 1) continue;
+                bool skips_corner = false;
+                for (int k = i + 1; k < j && !skips_corner; ++k) skips_corner = corner[c[k]];
+                if (skips_corner) continue;
+                // The loop p_i .. p_j (m) p_i; flood each side without crossing it.
+                std::vector<std::uint64_t> loop_edges;
+                for (int k = i; k < j; ++k) loop_edges.push_back(detail::edge_key(c[k], c[k + 1]));
+                if (m < 0)
+                    loop_edges.push_back(detail::edge_key(c[j], c[i]));
+                else {
+                    loop_edges.push_back(detail::edge_key(c[j], m));
+                    loop_edges.push_back(detail::edge_key(m, c[i]));
+                }
+                std::sort(loop_edges.begin(), loop_edges.end());
+                auto on_loop = [&](int h) {
+                    return std::binary_search(loop_edges.begin(), loop_edges.end(),
+                                              detail::edge_key(s.from(h), s.to(h)));
+                };
+                const size_t limit = 64 + 16 * static_cast<size_t>(j - i) * static_cast<size_t>(j - i);
+                const int h0 = s.find_half_edge(c[i], c[i + 1]);
+                bool clean_side = false;
+                for (int side = 0; side < 2 && !clean_side; ++side) {
+                    ++stamp;
+                    std::vector<int> queue{(side == 0 ? h0 : s.twin(h0)) / 3};
+                    seen[queue[0]] = stamp;
+                    bool clean = true;
+                    for (size_t q = 0; q < queue.size() && clean; ++q) {
+                        if (queue.size() > limit) clean = false;
+                        const int t = queue[q];
+                        for (int k = 0; k < 3 && clean; ++k) {
+                            const int v = s.mesh().triangles[t][k];
+                            if ((pos[v] >= i && pos[v] <= j) || v == m) continue;  // on the loop itself
+                            if (dirty[v] || corner[v] || pos[v] >= 0) clean = false;
+                        }
+                        for (int k = 0; k < 3 && clean; ++k) {
+                            const int h = 3 * t + k;
+                            if (on_loop(h)) continue;
+                            const int o = s.twin(h) / 3;
+                            if (seen[o] != stamp) {
+                                seen[o] = stamp;
+                                queue.push_back(o);
+                            }
+                        }
+                    }
+                    clean_side = clean;
+                }
+                if (!clean_side) continue;
+                c.erase(c.begin() + i + 1, c.begin() + j);
+                if (m >= 0) c.insert(c.begin() + i + 1, m);
+                ++shortcuts;
+                changed = true;
+                break;
+            }
+        }
+    }
+    return shortcuts;
+}
 }  // namespace
 
-std::string QuadLayoutOptions::validate() const { return cycles.validate(); }
+std::string QuadLayoutOptions::validate() const {
+    return cycles.validate();
+}
 
 QuadLayout build_quad_layout(const Mesh& input, const QuadLayoutOptions& options) {
     if (const std::string e = options.validate(); !e.empty()) throw InvalidInput("quad layout options: " + e);
@@ -630,10 +742,11 @@ QuadLayout build_quad_layout(const Mesh& input, const QuadLayoutOptions& options
     // Validates the input (throws InvalidInput as build_orthogonal_system() would).
     const ValidationReport report = validate(input);
     if (!report.quaddable() || report.components.size() != 1)
-        throw InvalidInput("build_quad_layout needs one closed, manifold, orientable component: " +
-                           (report.components.size() > 1 ? std::string("the mesh has ") +
-                                                               std::to_string(report.components.size()) + " components"
-                                                         : report.error_summary()));
+        throw InvalidInput(
+            "build_quad_layout needs one closed, manifold, orientable component: " +
+            (report.components.size() > 1
+                 ? std::string("the mesh has ") + std::to_string(report.components.size()) + " components"
+                 : report.error_summary()));
     // Coarse meshes get room first (1-to-4 splits: input vertices stay, in order; new ones at edge
     // midpoints): every handle needs its 2 loops, 4 S-cycles and their arcs to pass one another.
     const int genus = report.components[0].genus;
@@ -643,55 +756,95 @@ QuadLayout build_quad_layout(const Mesh& input, const QuadLayoutOptions& options
     OrthogonalSystem system = build_orthogonal_system(mesh, cycle_options);
     const int g = system.genus;
 
-    QuadLayout out;
-    out.input_vertices = input.num_vertices();
-    out.genus = g;
-    Builder b(system.mesh, cycle_options);
-    for (const Cycle& c : system.cycles) b.add_curve(c);
     const double t_cycles = clock();
+    // The layout curves' routes depend on the path costs; a layout whose patch maps fold (a patch
+    // squeezed below rounding) is rebuilt with stronger, then weaker repulsion before giving up.
+    std::string failure;
+    for (const double repulsion_scale : {1.0, 2.0, 0.5}) {
+        QuadLayout out;
+        out.input_vertices = input.num_vertices();
+        out.genus = g;
+        OrthogonalSystemOptions curve_options = cycle_options;
+        curve_options.repulsion *= repulsion_scale;
+        Builder b(system.mesh, curve_options);
+        for (const Cycle& c : system.cycles) b.add_curve(c);
+        try {
+            Network net;
+            if (g >= 2)
+                net = network_of_handles_and_tshirts(b, g, say);
+            else if (g == 1)
+                net = network_of_torus(b, say);
+            else
+                net = network_of_cube(b, say);
 
-    Network net;
-    if (g >= 2) net = network_of_handles_and_tshirts(b, g, say);
-    else if (g == 1) net = network_of_torus(b, say);
-    else net = network_of_cube(b, say);
+            // Room for the patch maps: no mesh edge may join two boundary vertices of a patch without
+            // being a layout edge. The orthogonal system is no obstacle any more.
+            say("patches");
+            std::vector<char> layout_curve(b.curves_.size(), 0);
+            for (const auto& [id, cs] : net.closed) layout_curve[id] = 1;
+            for (int id : net.arcs) layout_curve[id] = 1;
+            for (size_t c = 0; c < b.curves_.size(); ++c) b.obstacle_[c] = layout_curve[c];
+            {
+                // Tighten: remove hairpins. An S-cycle must keep its single crossing with the orthogonal
+                // system, so for S-cycles the system's vertices count as other curves too.
+                std::vector<char> corner(b.s_.num_vertices(), 0), on_system(b.s_.num_vertices(), 0);
+                for (int v : net.corners) corner[v] = 1;
+                for (int i = 0; i < 2 * g; ++i)
+                    for (int v : b.curves_[i]) on_system[v] = 1;
+                for (size_t c = 0; c < b.curves_.size(); ++c) {
+                    if (!layout_curve[c]) continue;
+                    std::vector<char> dirty(b.s_.num_vertices(), 0);
+                    for (size_t d = 0; d < b.curves_.size(); ++d)
+                        if (d != c && layout_curve[d])
+                            for (int v : b.curves_[d]) dirty[v] = 1;
+                    const bool is_s = std::find(net.s_cycles.begin(), net.s_cycles.end(),
+                                                static_cast<int>(c)) != net.s_cycles.end();
+                    if (is_s || g == 1) {  // g = 1: the four curves include the system's two
+                        std::vector<char> mine(b.s_.num_vertices(), 0);
+                        for (int v : b.curves_[c]) mine[v] = 1;
+                        for (size_t v = 0; v < dirty.size(); ++v)
+                            dirty[v] = dirty[v] || (on_system[v] && !mine[v]);
+                    }
+                    remove_hairpins(b.s_, b.curves_[c], b.closed_[c], dirty, corner);
+                }
+            }
+            b.split_chords();
 
-    // Room for the patch maps: no mesh edge may join two boundary vertices of a patch without
-    // being a layout edge. The orthogonal system is no obstacle any more.
-    say("patches");
-    std::vector<char> layout_curve(b.curves_.size(), 0);
-    for (const auto& [id, cs] : net.closed) layout_curve[id] = 1;
-    for (int id : net.arcs) layout_curve[id] = 1;
-    for (size_t c = 0; c < b.curves_.size(); ++c) b.obstacle_[c] = layout_curve[c];
-    b.split_chords();
+            std::vector<std::vector<int>> paths;
+            for (const auto& [id, cs] : net.closed) {
+                Cycle c = b.curves_[id];
+                const int i0 = index_in(c, cs[0]);
+                QC_CHECK(i0 >= 0 && index_in(c, cs[1]) >= 0, "a layout cycle lost its corners");
+                std::rotate(c.begin(), c.begin() + i0, c.end());
+                const int i1 = index_in(c, cs[1]);
+                paths.emplace_back(c.begin(), c.begin() + i1 + 1);
+                std::vector<int> rest(c.begin() + i1, c.end());
+                rest.push_back(c[0]);
+                paths.push_back(rest);
+            }
+            for (int id : net.arcs) paths.push_back(b.curves_[id]);
 
-    std::vector<std::vector<int>> paths;
-    for (const auto& [id, cs] : net.closed) {
-        Cycle c = b.curves_[id];
-        const int i0 = index_in(c, cs[0]);
-        QC_CHECK(i0 >= 0 && index_in(c, cs[1]) >= 0, "a layout cycle lost its corners");
-        std::rotate(c.begin(), c.begin() + i0, c.end());
-        const int i1 = index_in(c, cs[1]);
-        paths.emplace_back(c.begin(), c.begin() + i1 + 1);
-        std::vector<int> rest(c.begin() + i1, c.end());
-        rest.push_back(c[0]);
-        paths.push_back(rest);
+            out.mesh = b.s_.mesh();
+            for (int i = 0; i < 2 * g; ++i) out.orthogonal_system.push_back(b.curves_[i]);
+            for (int id : net.s_cycles) out.s_cycles.push_back(b.curves_[id]);
+            const double t_curves = clock();
+            const std::string problem = detail::extract_cage(b.s_, net.corners, paths, &out);
+            if (!problem.empty())
+                throw InternalError("the layout curves do not form a quad layout: " + problem);
+            detail::parameterize_patches(&out);
+            const double t_param = clock();
+            say("verifying");
+            const std::string check = verify_quad_layout(out);
+            if (!check.empty()) throw InternalError("the quad layout fails its own check: " + check);
+            detail::measure_quality(&out);
+            out.seconds = {t_cycles, t_curves - t_cycles, t_param - t_curves, clock() - t_param};
+            return out;
+        } catch (const InternalError& e) {
+            failure = e.what();
+            say(std::string("retrying the layout curves: ") + e.what());
+        }
     }
-    for (int id : net.arcs) paths.push_back(b.curves_[id]);
-
-    out.mesh = b.s_.mesh();
-    for (int i = 0; i < 2 * g; ++i) out.orthogonal_system.push_back(b.curves_[i]);
-    for (int id : net.s_cycles) out.s_cycles.push_back(b.curves_[id]);
-    const double t_curves = clock();
-    const std::string problem = detail::extract_cage(b.s_, net.corners, paths, &out);
-    QC_CHECK(problem.empty(), "the layout curves do not form a quad layout: " + problem);
-    detail::parameterize_patches(&out);
-    const double t_param = clock();
-    say("verifying");
-    const std::string check = verify_quad_layout(out);
-    QC_CHECK(check.empty(), "the quad layout fails its own check: " + check);
-    detail::measure_quality(&out);
-    out.seconds = {t_cycles, t_curves - t_cycles, t_param - t_curves, clock() - t_param};
-    return out;
+    throw InternalError(failure);
 }
 
 }  // namespace quadcage::layout

@@ -14,14 +14,17 @@ namespace quadcage::layout {
 
 namespace {
 
-std::string num(long v) { return std::to_string(v); }
+std::string num(long v) {
+    return std::to_string(v);
+}
 
 }  // namespace
 
 std::string verify_quad_layout(const QuadLayout& L) {
     const Mesh& mesh = L.mesh;
     const ValidationReport report = validate(mesh);
-    if (report.components.size() != 1 || !report.components[0].quaddable() || !report.components[0].consistently_oriented)
+    if (report.components.size() != 1 || !report.components[0].quaddable() ||
+        !report.components[0].consistently_oriented)
         return "the layout mesh is not one closed, oriented, manifold surface";
     const int g = report.components[0].genus;
     if (g != L.genus) return "genus " + num(L.genus) + " recorded, the mesh has genus " + num(g);
@@ -32,12 +35,14 @@ std::string verify_quad_layout(const QuadLayout& L) {
     const int want_corners = g >= 2 ? 8 * g - 8 : (g == 1 ? 4 : 8);
     const int want_degree = g >= 2 ? 5 : (g == 1 ? 4 : 3);
     if (L.cage.num_quads() != want_quads) return num(L.cage.num_quads()) + " quads, want " + num(want_quads);
-    if (L.cage.num_corners() != want_corners) return num(L.cage.num_corners()) + " corners, want " + num(want_corners);
+    if (L.cage.num_corners() != want_corners)
+        return num(L.cage.num_corners()) + " corners, want " + num(want_corners);
     std::vector<int> degree(L.cage.num_corners(), 0);
     for (const auto& e : L.cage.edges)
         for (int c : e.corners) ++degree[c];
     for (int c = 0; c < L.cage.num_corners(); ++c)
-        if (degree[c] != want_degree) return "corner " + num(c) + " has degree " + num(degree[c]) + ", want " + num(want_degree);
+        if (degree[c] != want_degree)
+            return "corner " + num(c) + " has degree " + num(degree[c]) + ", want " + num(want_degree);
     // Rule (iii): two quads share at most two sides, and never two adjacent ones.
     std::map<std::pair<int, int>, std::vector<int>> shared;
     for (int q = 0; q < L.cage.num_quads(); ++q)
@@ -49,12 +54,14 @@ std::string verify_quad_layout(const QuadLayout& L) {
         }
     for (const auto& [pair, sides] : shared)
         if (sides.size() > 2 || (sides.size() == 2 && (sides[1] - sides[0]) % 4 != 2))
-            return "quads " + num(pair.first) + " and " + num(pair.second) + " share adjacent sides or more than two";
+            return "quads " + num(pair.first) + " and " + num(pair.second) +
+                   " share adjacent sides or more than two";
 
     // Corners sit on mesh vertices; layout edges are simple mesh-edge paths between their corners,
     // disjoint but at corners.
     const int n = mesh.num_vertices(), nt = mesh.num_triangles();
-    if (static_cast<int>(L.corner_vertex.size()) != L.cage.num_corners()) return "corner_vertex has the wrong size";
+    if (static_cast<int>(L.corner_vertex.size()) != L.cage.num_corners())
+        return "corner_vertex has the wrong size";
     std::vector<int> corner_of(n, -1);
     for (int c = 0; c < L.cage.num_corners(); ++c) {
         const int v = L.corner_vertex[c];
@@ -72,20 +79,26 @@ std::string verify_quad_layout(const QuadLayout& L) {
             p.back() != L.corner_vertex[L.cage.edges[e].corners[1]])
             return "layout edge " + num(static_cast<long>(e)) + " does not run between its corners";
         for (size_t i = 0; i + 1 < p.size(); ++i)
-            if (s.find_half_edge(p[i], p[i + 1]) < 0) return "layout edge " + num(static_cast<long>(e)) + " leaves the mesh edges";
+            if (s.find_half_edge(p[i], p[i + 1]) < 0)
+                return "layout edge " + num(static_cast<long>(e)) + " leaves the mesh edges";
         for (size_t i = 1; i + 1 < p.size(); ++i) {
-            if (corner_of[p[i]] >= 0) return "layout edge " + num(static_cast<long>(e)) + " passes through a corner";
-            if (path_of_vertex[p[i]] >= 0) return "layout edges " + num(path_of_vertex[p[i]]) + " and " + num(static_cast<long>(e)) + " meet away from corners";
+            if (corner_of[p[i]] >= 0)
+                return "layout edge " + num(static_cast<long>(e)) + " passes through a corner";
+            if (path_of_vertex[p[i]] >= 0)
+                return "layout edges " + num(path_of_vertex[p[i]]) + " and " + num(static_cast<long>(e)) +
+                       " meet away from corners";
             path_of_vertex[p[i]] = static_cast<int>(e);
         }
     }
 
-    // Patches: each a connected disk bounded by exactly its quad's 4 sides, walked with the patch on the left.
+    // Patches: each a connected disk bounded by exactly its quad's 4 sides, walked with the patch on the
+    // left.
     if (static_cast<int>(L.triangle_patch.size()) != nt) return "triangle_patch has the wrong size";
     const std::vector<char> cut = detail::cut_half_edges(s, L.edge_paths);
     std::vector<int> component;
     const int nc = detail::face_components(s, cut, &component);
-    if (nc != L.cage.num_quads()) return "the layout edges cut " + num(nc) + " regions, not " + num(L.cage.num_quads());
+    if (nc != L.cage.num_quads())
+        return "the layout edges cut " + num(nc) + " regions, not " + num(L.cage.num_quads());
     std::vector<int> patch_of_component(nc, -1), boundary(L.cage.num_quads(), 0);
     for (int t = 0; t < nt; ++t) {
         const int p = L.triangle_patch[t];
@@ -106,14 +119,17 @@ std::string verify_quad_layout(const QuadLayout& L) {
     std::vector<int> loop, side;
     for (int q = 0; q < L.cage.num_quads(); ++q) {
         detail::quad_boundary(L, q, &loop, &side);
-        if (static_cast<int>(loop.size()) != boundary[q]) return "patch " + num(q) + " has a boundary other than its 4 sides";
+        if (static_cast<int>(loop.size()) != boundary[q])
+            return "patch " + num(q) + " has a boundary other than its 4 sides";
         for (size_t i = 0; i < loop.size(); ++i) {
             const int h = s.find_half_edge(loop[i], loop[(i + 1) % loop.size()]);
-            if (h < 0 || L.triangle_patch[h / 3] != q) return "patch " + num(q) + " does not lie to the left of its sides";
+            if (h < 0 || L.triangle_patch[h / 3] != q)
+                return "patch " + num(q) + " does not lie to the left of its sides";
         }
         std::vector<int> tv;
         const long faces = static_cast<long>(patch_triangles[q].size());
-        for (int t : patch_triangles[q]) tv.insert(tv.end(), mesh.triangles[t].begin(), mesh.triangles[t].end());
+        for (int t : patch_triangles[q])
+            tv.insert(tv.end(), mesh.triangles[t].begin(), mesh.triangles[t].end());
         std::sort(tv.begin(), tv.end());
         tv.erase(std::unique(tv.begin(), tv.end()), tv.end());
         const long chi = static_cast<long>(tv.size()) - (3 * faces + boundary[q]) / 2 + faces;
@@ -128,7 +144,8 @@ std::string verify_quad_layout(const QuadLayout& L) {
         for (const UV& p : uv)
             if (!(p[0] >= -tol && p[0] <= 1 + tol && p[1] >= -tol && p[1] <= 1 + tol))
                 return "triangle " + num(t) + " maps outside the unit square";
-        const double area = (uv[1][0] - uv[0][0]) * (uv[2][1] - uv[0][1]) - (uv[2][0] - uv[0][0]) * (uv[1][1] - uv[0][1]);
+        const double area =
+            (uv[1][0] - uv[0][0]) * (uv[2][1] - uv[0][1]) - (uv[2][0] - uv[0][0]) * (uv[1][1] - uv[0][1]);
         if (!(area > 0)) return "triangle " + num(t) + " is flipped or degenerate in its patch map";
     }
     std::vector<UV> expected(n);
@@ -136,7 +153,8 @@ std::string verify_quad_layout(const QuadLayout& L) {
     for (int q = 0; q < L.cage.num_quads(); ++q) {
         detail::quad_boundary(L, q, &loop, &side);
         std::array<double, 4> len{0, 0, 0, 0};
-        for (size_t i = 0; i < loop.size(); ++i) len[side[i]] += norm(mesh.points[loop[(i + 1) % loop.size()]] - mesh.points[loop[i]]);
+        for (size_t i = 0; i < loop.size(); ++i)
+            len[side[i]] += norm(mesh.points[loop[(i + 1) % loop.size()]] - mesh.points[loop[i]]);
         double run = 0;
         for (size_t i = 0; i < loop.size(); ++i) {
             if (i == 0 || side[i] != side[i - 1]) run = 0;

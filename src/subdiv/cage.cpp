@@ -9,7 +9,9 @@ namespace quadcage::subdiv {
 
 namespace {
 
-std::string at(const char* what, int index) { return std::string(what) + " " + std::to_string(index); }
+std::string at(const char* what, int index) {
+    return std::string(what) + " " + std::to_string(index);
+}
 
 }  // namespace
 
@@ -33,7 +35,8 @@ std::string check_cage(const Cage& cage) {
             const int a = quad.corners[k], b = quad.corners[(k + 1) % 4];
             const bool forward = edge.corners[0] == a && edge.corners[1] == b;
             const bool backward = edge.corners[0] == b && edge.corners[1] == a;
-            if (!forward && !backward) return at("quad", q) + " side " + std::to_string(k) + " is not on its edge's corners";
+            if (!forward && !backward)
+                return at("quad", q) + " side " + std::to_string(k) + " is not on its edge's corners";
             int slot = -1;
             for (int i = 0; i < 2; ++i)
                 if (edge.quads[i] == q && edge.sides[i] == k) slot = i;
@@ -43,14 +46,16 @@ std::string check_cage(const Cage& cage) {
     }
     for (int e = 0; e < ne; ++e) {
         const auto& edge = cage.edges[e];
-        if (uses[e] != 2) return at("edge", e) + " is used by " + std::to_string(uses[e]) + " quad sides, not 2";
+        if (uses[e] != 2)
+            return at("edge", e) + " is used by " + std::to_string(uses[e]) + " quad sides, not 2";
         if (edge.corners[0] == edge.corners[1]) return at("edge", e) + " is a loop";
         if (edge.quads[0] == edge.quads[1] && edge.sides[0] == edge.sides[1])
             return at("edge", e) + " records the same quad side twice";
         const int h0 = 4 * edge.quads[0] + edge.sides[0], h1 = 4 * edge.quads[1] + edge.sides[1];
         // Opposite directions: the start corner of one use is the end corner of the other.
         const auto start = [&](int h) { return cage.quads[h / 4].corners[h % 4]; };
-        if (start(h0) == start(h1)) return at("edge", e) + " is walked twice in the same direction (inconsistent orientation)";
+        if (start(h0) == start(h1))
+            return at("edge", e) + " is walked twice in the same direction (inconsistent orientation)";
         twin[h0] = h1;
         twin[h1] = h0;
     }
@@ -66,7 +71,7 @@ std::string check_cage(const Cage& cage) {
         do {
             visited[x] = 1;
             const int prev = 4 * (x / 4) + (x % 4 + 3) % 4;  // ends at c
-            x = twin[prev];                                // starts at c
+            x = twin[prev];                                  // starts at c
         } while (x != h);
     }
     for (int c = 0; c < nc; ++c)

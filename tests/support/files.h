@@ -21,9 +21,15 @@ namespace quadcage::test {
 
 namespace fs = std::filesystem;
 
-inline fs::path shared_meshes_dir() { return fs::path(QUADCAGE_SHARED_DIR) / "data" / "meshes"; }
-inline bool have_shared_meshes() { return fs::is_directory(shared_meshes_dir()); }
-inline fs::path shared_tool(const std::string& name) { return fs::path(QUADCAGE_SHARED_DIR) / "tools" / name; }
+inline fs::path shared_meshes_dir() {
+    return fs::path(QUADCAGE_SHARED_DIR) / "data" / "meshes";
+}
+inline bool have_shared_meshes() {
+    return fs::is_directory(shared_meshes_dir());
+}
+inline fs::path shared_tool(const std::string& name) {
+    return fs::path(QUADCAGE_SHARED_DIR) / "tools" / name;
+}
 
 /// A shared real mesh made ready for the pipeline (its single component).
 inline Mesh load_shared(const std::string& file) {
@@ -54,7 +60,9 @@ inline int run_shell(const std::string& command) {
     return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
 }
 
-inline std::string shell_quoted(const fs::path& p) { return "'" + p.string() + "'"; }
+inline std::string shell_quoted(const fs::path& p) {
+    return "'" + p.string() + "'";
+}
 
 /// A fresh scratch directory for the running test (the caller removes it).
 inline fs::path scratch_dir(const std::string& prefix) {

@@ -19,28 +19,30 @@ using UV = std::array<double, 2>;
 /// Options for build_quad_layout().
 struct QuadLayoutOptions {
     OrthogonalSystemOptions cycles;  ///< For the orthogonal system the layout starts from (g >= 1).
-    std::function<void(const std::string&)> progress;  ///< Called with a short message per stage; may be empty.
-    std::string validate() const;    ///< Empty if valid, else what is wrong.
+    std::function<void(const std::string&)>
+        progress;                  ///< Called with a short message per stage; may be empty.
+    std::string validate() const;  ///< Empty if valid, else what is wrong.
 };
 
 /// Quality figures of a layout (issue #4); all dimensionless.
 struct LayoutQuality {
-    double patch_area_max_over_min = 0;       ///< Largest over smallest patch area.
+    double patch_area_max_over_min = 0;          ///< Largest over smallest patch area.
     double corner_angle_mean_deviation_deg = 0;  ///< Mean |sector angle - 360/degree| over corner sectors.
     double corner_angle_max_deviation_deg = 0;
-    double distortion_mean = 0;  ///< Area-weighted geometric mean of the conformal distortion sigma1/sigma2 of the patch maps (1 = conformal).
+    double distortion_mean = 0;  ///< Area-weighted geometric mean of the conformal distortion sigma1/sigma2
+                                 ///< of the patch maps (1 = conformal).
     double distortion_max = 0;
-    double edge_length_over_sqrt_area = 0;    ///< Total length of the layout edges / sqrt(surface area).
-    int flipped_triangles = 0;                ///< Triangles whose (u, v) image has non-positive area.
+    double edge_length_over_sqrt_area = 0;  ///< Total length of the layout edges / sqrt(surface area).
+    int flipped_triangles = 0;              ///< Triangles whose (u, v) image has non-positive area.
 };
 
 /// A quad layout on a (possibly refined) copy of the input surface.
 struct QuadLayout {
-    Mesh mesh;               ///< The surface all curves and patches live on: the input's points first,
-                             ///< in order and unmoved, then new points on input edges.
+    Mesh mesh;  ///< The surface all curves and patches live on: the input's points first,
+                ///< in order and unmoved, then new points on input edges.
     int input_vertices = 0;
     int genus = 0;
-    subdiv::Cage cage;       ///< Level-0 cage: corners are mesh vertices (positions on the surface).
+    subdiv::Cage cage;                ///< Level-0 cage: corners are mesh vertices (positions on the surface).
     std::vector<int> corner_vertex;   ///< Mesh vertex of each cage corner.
     std::vector<int> triangle_patch;  ///< Cage quad of each mesh triangle.
     /// (u, v) of each triangle's three corners in its patch's square (corner k of the cage quad at

@@ -77,7 +77,8 @@ public:
     /// (a search confined to one region pays only for that region). `adjacency` adds that multiple
     /// of the length to each end of an edge that is a neighbour of a blocked vertex: a path that
     /// runs next to a curve makes chords, and splitting them makes room for the next path to hug.
-    std::function<double(int)> cost_near(const std::vector<char>& block, const std::vector<char>* outside = nullptr,
+    std::function<double(int)> cost_near(const std::vector<char>& block,
+                                         const std::vector<char>* outside = nullptr,
                                          double adjacency = 0) const;
 
     double edge_cost(const std::function<double(int)>& cost, int a, int b) const;
@@ -85,13 +86,15 @@ public:
     /// Shortest path leaving x through `from_sector` and reaching y through `to_sector` (vertices
     /// of the sectors that are not blocked). Returns the interior vertices, or empty; then
     /// `reached` (if given) marks the vertices the search settled.
-    std::vector<int> sector_path(int x, const std::vector<int>& from_sector, int y, const std::vector<int>& to_sector,
-                                 const std::vector<char>& block, const std::function<double(int)>& cost,
-                                 double* total, std::vector<char>* reached = nullptr) const;
+    std::vector<int> sector_path(int x, const std::vector<int>& from_sector, int y,
+                                 const std::vector<int>& to_sector, const std::vector<char>& block,
+                                 const std::function<double(int)>& cost, double* total,
+                                 std::vector<char>* reached = nullptr) const;
 };
 
 /// Inserts into each open path the midpoints of its split edges (insert_midpoints() for paths
 /// that do not close).
-void insert_midpoints_open(std::vector<std::vector<int>>& paths, const std::vector<std::array<int, 3>>& split);
+void insert_midpoints_open(std::vector<std::vector<int>>& paths,
+                           const std::vector<std::array<int, 3>>& split);
 
 }  // namespace quadcage::layout::detail

@@ -27,8 +27,8 @@ int next_cut_half_edge(const Surface& s, const std::vector<char>& cut, int h);
 /// Fills layout->cage (positions of the corner vertices), corner_vertex, triangle_patch and
 /// edge_paths. Patch i is cage quad i, corner 0 of each quad is its lowest-numbered corner.
 /// Returns "" or what makes the network no quad layout (a face without 4 corners, ...).
-std::string extract_cage(const Surface& s, const std::vector<int>& corners, const std::vector<std::vector<int>>& paths,
-                         QuadLayout* layout);
+std::string extract_cage(const Surface& s, const std::vector<int>& corners,
+                         const std::vector<std::vector<int>>& paths, QuadLayout* layout);
 
 /// Maps every patch onto [0,1]^2: sides by arc length, interior by a Tutte embedding with positive
 /// (clamped cotangent) weights, which cannot fold on a convex boundary (Floater 2003).

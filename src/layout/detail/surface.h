@@ -73,10 +73,10 @@ struct PathSearch {
 };
 
 struct PathResult {
-    std::vector<double> distance;  ///< Per vertex; +inf when not reached.
+    std::vector<double> distance;       ///< Per vertex; +inf when not reached.
     std::vector<int> parent_half_edge;  ///< Half-edge used to reach the vertex, -1 at sources.
-    int target = -1;               ///< Best target reached (-1: none).
-    double target_cost = 0;        ///< Its distance plus its arrival cost.
+    int target = -1;                    ///< Best target reached (-1: none).
+    double target_cost = 0;             ///< Its distance plus its arrival cost.
     /// Vertices from a source to `v`.
     std::vector<int> path_to(const Surface& s, int v) const;
 };

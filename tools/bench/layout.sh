@@ -1,0 +1,59 @@
+#!/usr/bin/env bash
+# Benchmark of `quadcage layout` (issue #4): seconds, peak memory and the layout quality figures on
+# every shared mesh, and on botijo split 1-to-4 twice (1.3M triangles). Every layout is checked by
+# ../shared/tools/check_layout.py (--patches, --cage, --input). Targets on the 2-core machine:
+# botijo <= 10 s; botijo at 1.3M triangles <= 120 s and <= 4 GiB.
+#   tools/bench/layout.sh [BUILD_DIR] [--no-large]
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+build=${1:-build}
+large=1
+[ "${2:-}" = "--no-large" ] && large=0
+qc="$build/quadcage"
+[ -x "$qc" ] || { echo "build first: $qc not found" >&2; exit 2; }
+meshes=../shared/data/meshes
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+
+list=(bunny.obj igea.ply kitten.off torus.obj eight.off skull.obj 3holes.off fertility.off botijo.off input_wheel.off boot.obj)
+if [ $large = 1 ]; then
+  "$qc" subdivide "$meshes/botijo.off" -t 2 -o "$work/botijo_x16.ply" >/dev/null
+fi
+
+printf '| mesh | input triangles | genus | quads | corners (degree) | wall s | peak MiB | vertices added | patch area max/min | corner angle dev. mean / max (deg) | distortion mean / max | edge length / sqrt(area) | check_layout |\n'
+printf '|---|---:|---:|---:|---|---:|---:|---:|---:|---:|---:|---:|---|\n'
+run() {
+  local m=$1 name=$2
+  local out="$work/out_$name"
+  local start end
+  start=$(date +%s.%N)
+  if ! "$qc" layout "$m" -o "$out" -q >"$work/$name.log" 2>&1; then
+    printf '| %s | | | | | | | | | | | | FAILED: %s |\n' "$name" "$(tail -1 "$work/$name.log")"
+    return
+  fi
+  end=$(date +%s.%N)
+  local input_arg=(--input "$m")
+  # The checker's reader does not know PLY tristrips (igea): check the rest without --input.
+  if head -c 2000 "$m" | grep -aq "element tristrips"; then input_arg=(); fi
+  local check=skipped
+  if [ -x ../shared/tools/check_layout.py ] && [ -x /usr/bin/python3 ]; then
+    if ../shared/tools/check_layout.py --patches "$out/layout.ply" --cage "$out/cage.obj" "${input_arg[@]}" >"$work/$name.check" 2>&1; then
+      check=PASS; else check="FAIL: $(grep FAIL "$work/$name.check" | head -1)"; fi
+    [ ${#input_arg[@]} -eq 0 ] && check="$check (no --input: tristrips)"
+  fi
+  python3 - "$out/report.json" "$name" "$start" "$end" "$check" <<'PY'
+import json, sys
+r = json.load(open(sys.argv[1]))
+q = r['quality']
+deg = ', '.join('%s x %s' % (v, k) for k, v in sorted(r['degree_histogram'].items()))
+tri = r['triangles'] - 2 * r['vertices_added']  # closed surface: T = 2V - 4 + 4g, so T_in = T - 2 * added
+print('| %s | %d | %d | %d | %s | %.2f | %.0f | %d | %.3g | %.1f / %.1f | %.2f / %.3g | %.2f | %s |' % (
+    sys.argv[2], tri, r['genus'], r['quads'], deg, float(sys.argv[4]) - float(sys.argv[3]), r['peak_memory_mib'],
+    r['vertices_added'], q['patch_area_max_over_min'], q['corner_angle_mean_deviation_deg'],
+    q['corner_angle_max_deviation_deg'], q['distortion_mean'], q['distortion_max'], q['edge_length_over_sqrt_area'],
+    sys.argv[5]))
+PY
+}
+for m in "${list[@]}"; do run "$meshes/$m" "$m"; done
+[ $large = 1 ] && run "$work/botijo_x16.ply" "botijo split twice"
+exit 0
