@@ -7,78 +7,14 @@
 #include <utility>
 
 #include "quadcage/core/errors.h"
+#include "support/quad_shapes.h"
 
 namespace quadcage::subdiv {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
-// Explicit edges for a face-vertex quad list in which every edge is determined by its ends
-// (no multi-edges): the edge of side k of quad q is keyed by its unordered corner pair.
-Cage cage_from_simple(const QuadMesh& m) {
-    Cage cage;
-    cage.points = m.points;
-    std::map<std::pair<int, int>, int> id;
-    for (int q = 0; q < m.num_quads(); ++q) {
-        Cage::Quad quad;
-        quad.corners = m.quads[q];
-        for (int k = 0; k < 4; ++k) {
-            const int a = m.quads[q][k], b = m.quads[q][(k + 1) % 4];
-            const auto key = std::minmax(a, b);
-            auto [it, fresh] = id.emplace(key, cage.num_edges());
-            if (fresh) cage.edges.push_back({{a, b}, {q, -1}, {k, -1}});
-            else {
-                cage.edges[it->second].quads[1] = q;
-                cage.edges[it->second].sides[1] = k;
-            }
-            quad.edges[k] = it->second;
-        }
-        cage.quads.push_back(quad);
-    }
-    return cage;
-}
-
-QuadMesh cube() {
-    QuadMesh m;
-    for (int i = 0; i < 8; ++i) m.points.push_back({i & 1 ? 1.0 : -1.0, i & 2 ? 1.0 : -1.0, i & 4 ? 1.0 : -1.0});
-    m.quads = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
-    return m;
-}
-
-// The 4-quad torus (2 x 2 grid): corners (i, j), i, j in {0, 1}. Every pair of neighbouring corners
-// is joined by two edges (one going "forward", one wrapping round), so the cage has multi-edges.
-// Edge ids: around-u edges U(i, j) from (i, j) to (i+1, j); around-v edges W(i, j) from (i, j) to (i, j+1).
-Cage torus_cage(double R = 2.0, double r = 0.8) {
-    Cage cage;
-    auto corner = [](int i, int j) { return 2 * (i % 2) + (j % 2); };
-    for (int i = 0; i < 2; ++i)
-        for (int j = 0; j < 2; ++j) {
-            const double u = kPi * i + 0.3, v = kPi * j + 0.5;
-            cage.points.push_back({(R + r * std::cos(v)) * std::cos(u), (R + r * std::cos(v)) * std::sin(u), r * std::sin(v)});
-        }
-    auto U = [](int i, int j) { return 2 * (i % 2) + (j % 2); };
-    auto W = [](int i, int j) { return 4 + 2 * (i % 2) + (j % 2); };
-    cage.edges.resize(8);
-    for (int i = 0; i < 2; ++i)
-        for (int j = 0; j < 2; ++j) {
-            cage.edges[U(i, j)].corners = {corner(i, j), corner(i + 1, j)};
-            cage.edges[W(i, j)].corners = {corner(i, j), corner(i, j + 1)};
-        }
-    for (int i = 0; i < 2; ++i)
-        for (int j = 0; j < 2; ++j) {
-            const int q = cage.num_quads();
-            Cage::Quad quad;
-            quad.corners = {corner(i, j), corner(i + 1, j), corner(i + 1, j + 1), corner(i, j + 1)};
-            quad.edges = {U(i, j), W(i + 1, j), U(i, j + 1), W(i, j)};
-            cage.quads.push_back(quad);
-            // Side 0 and 1 walk their edge forward (first use), sides 2 and 3 backward (second use).
-            cage.edges[U(i, j)].quads[0] = q, cage.edges[U(i, j)].sides[0] = 0;
-            cage.edges[W(i + 1, j)].quads[0] = q, cage.edges[W(i + 1, j)].sides[0] = 1;
-            cage.edges[U(i, j + 1)].quads[1] = q, cage.edges[U(i, j + 1)].sides[1] = 2;
-            cage.edges[W(i, j)].quads[1] = q, cage.edges[W(i, j)].sides[1] = 3;
-        }
-    return cage;
-}
+using test::cage_from_simple;
+using test::torus_cage;
+QuadMesh cube() { return test::cube_quads(); }
 
 TEST(SubdivCage, CubeStepEqualsOpenSubdivUniformRefinement) {
     const QuadMesh m = cube();
