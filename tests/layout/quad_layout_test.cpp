@@ -93,11 +93,11 @@ TEST_P(QuadLayoutGenerated, MinimalLayoutPassesTheVerifier) {
     expect_valid_layout(build_quad_layout(input), input, g);
 }
 
-// Genus 0..12 and 14. Not here: genus 9, whose layout is built but one patch map squeezes
-// triangles below rounding (flipped in double precision; an open problem, see the README), and
-// genus 13 and above but 14, each minutes on this 2-core machine.
-INSTANTIATE_TEST_SUITE_P(QuadLayoutGenus0To14, QuadLayoutGenerated,
-                         ::testing::Values(0, 1, 2, 3, 4, 5, 6, 7, 8, 10, 11, 12, 14),
+// Genus 0..16 but 9 and 13: their layouts are built but a patch map squeezes triangles below
+// rounding (flipped in double precision, also after the retries; an open problem, see the README).
+// Genus 17..20 are not in the suite (minutes each on this 2-core machine).
+INSTANTIATE_TEST_SUITE_P(QuadLayoutGenus0To16, QuadLayoutGenerated,
+                         ::testing::Values(0, 1, 2, 3, 4, 5, 6, 7, 8, 10, 11, 12, 14, 15, 16),
                          [](const ::testing::TestParamInfo<int>& info) {
                              return "genus" + std::to_string(info.param);
                          });
