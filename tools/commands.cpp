@@ -160,17 +160,6 @@ double peak_memory_mib() {
 constexpr double kTinyHandle = 0.02;
 
 
-// OBJ text of a quad mesh (1-based faces, 17 significant digits).
-std::string quad_obj(const std::vector<Vec3>& points, const std::vector<std::array<int, 4>>& quads,
-                     const std::string& comment) {
-    std::ostringstream out;
-    out.precision(17);
-    out << "# " << comment << "\n";
-    for (const Vec3& p : points) out << "v " << p.x << " " << p.y << " " << p.z << "\n";
-    for (const auto& q : quads) out << "f " << q[0] + 1 << " " << q[1] + 1 << " " << q[2] + 1 << " " << q[3] + 1 << "\n";
-    return out.str();
-}
-
 // Everything `layout` writes for one component, rendered in memory before any file is written.
 struct LayoutFiles {
     std::string dir;
@@ -186,14 +175,14 @@ LayoutFiles layout_files(const layout::QuadLayout& L, const std::string& dir) {
     f.mesh = L.mesh;
     f.extras.face_int_name = "patch";
     f.extras.face_ints = L.triangle_patch;
-    std::vector<std::array<int, 4>> quads;
-    for (const auto& q : L.cage.quads) quads.push_back(q.corners);
-    f.cage_obj = quad_obj(L.cage.points, quads,
-                          "quadcage level-0 cage: " + std::to_string(quads.size()) +
-                              " quads; OBJ cannot tell multi-edges apart, cage.json has the exact topology");
+    subdiv::QuadMesh level0;
+    level0.points = L.cage.points;
+    for (const auto& q : L.cage.quads) level0.quads.push_back(q.corners);
+    f.cage_obj = subdiv::quad_obj_text(level0, "quadcage level-0 cage: " + std::to_string(level0.num_quads()) +
+                                                   " quads; OBJ cannot tell multi-edges apart, cage.json has the exact topology");
     const subdiv::CageRefinement r1 = subdiv::refine_cage(L.cage);
-    f.cage_level1_obj = quad_obj(r1.level1.points, r1.level1.quads,
-                                 "quadcage level-1 cage: one Catmull-Clark step of the level-0 cage (same limit surface)");
+    f.cage_level1_obj = subdiv::quad_obj_text(
+        r1.level1, "quadcage level-1 cage: one Catmull-Clark step of the level-0 cage (same limit surface)");
     json corners = json::array(), edges = json::array(), jquads = json::array();
     for (int c = 0; c < L.cage.num_corners(); ++c) {
         const Vec3& p = L.cage.points[c];

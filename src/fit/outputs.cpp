@@ -6,7 +6,6 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <sstream>
 
 #include "detail/sampling.h"
 #include "quadcage/accel/closest_point.h"
@@ -104,15 +103,8 @@ TessellationChoice choose_tessellation(const FittedSurface& surface, double fit_
 }
 
 void write_quad_obj(const std::string& path, const subdiv::QuadMesh& mesh) {
-    std::ostringstream out;
-    out << "# quadcage fitted control mesh: " << mesh.num_vertices() << " vertices, " << mesh.num_quads() << " quads\n";
-    char buf[128];
-    for (const Vec3& p : mesh.points) {
-        std::snprintf(buf, sizeof buf, "v %.17g %.17g %.17g\n", p.x, p.y, p.z);
-        out << buf;
-    }
-    for (const auto& q : mesh.quads) out << "f " << q[0] + 1 << ' ' << q[1] + 1 << ' ' << q[2] + 1 << ' ' << q[3] + 1 << '\n';
-    write_text_file(path, out.str());
+    write_text_file(path, subdiv::quad_obj_text(mesh, "quadcage fitted control mesh: " + std::to_string(mesh.num_vertices()) +
+                                                          " vertices, " + std::to_string(mesh.num_quads()) + " quads"));
 }
 
 void write_limit_ply(const std::string& path, const Mesh& input, const FittedSurface& surface,

@@ -5,6 +5,7 @@
 #include <opensubdiv/version.h>
 
 #include <memory>
+#include <cstdio>
 #include <unordered_set>
 
 #include "quadcage/core/errors.h"
@@ -176,6 +177,20 @@ std::vector<Vec3> limit_positions(const QuadMesh& cage, int levels) {
     std::vector<Point> limit(points.size());
     PrimvarRefiner(*refiner).Limit(points, limit);
     return to_vec3(limit);
+}
+
+std::string quad_obj_text(const QuadMesh& mesh, const std::string& comment) {
+    std::string out = "# " + comment + "\n";
+    char buf[128];
+    for (const Vec3& p : mesh.points) {
+        std::snprintf(buf, sizeof buf, "v %.17g %.17g %.17g\n", p.x, p.y, p.z);
+        out += buf;
+    }
+    for (const auto& q : mesh.quads) {
+        std::snprintf(buf, sizeof buf, "f %d %d %d %d\n", q[0] + 1, q[1] + 1, q[2] + 1, q[3] + 1);
+        out += buf;
+    }
+    return out;
 }
 
 std::string opensubdiv_version() {

@@ -47,6 +47,11 @@ QuadMesh refine_uniform(const QuadMesh& cage, int levels);
 /// \pre and \throw as refine_uniform().
 std::vector<Vec3> limit_positions(const QuadMesh& cage, int levels);
 
+/// OBJ text of a quad mesh: a `# comment` line, `v` lines with 17 significant digits (coordinates
+/// read back bit-identical), `f` lines with 4 one-based indices. No checks: the level-0 cage of a
+/// layout (multi-edges) is written this way too, for people and checkers.
+std::string quad_obj_text(const QuadMesh& mesh, const std::string& comment);
+
 /// Run-time proof that OpenSubdiv links and works: "OpenSubdiv v3_5_0 (cube refined: 24 faces)",
 /// where the face count comes from refining a cube at run time.
 std::string opensubdiv_version();
