@@ -8,6 +8,17 @@
 #include "commands.h"
 #include "quadcage/core/errors.h"
 
+namespace {
+
+// The arguments every mesh-processing command takes: MESH, -o DIR and -q.
+void add_mesh_output_quiet(CLI::App* cmd, std::string& mesh, std::string& dir, bool& quiet) {
+    cmd->add_option("MESH", mesh, "Closed triangle mesh: OBJ, PLY, OFF or STL")->required();
+    cmd->add_option("-o,--output", dir, "Output directory (created if missing)")->required();
+    cmd->add_flag("-q,--quiet", quiet, "No progress messages on stderr");
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
     using namespace quadcage::cli;
     CLI::App app{
@@ -30,9 +41,7 @@ int main(int argc, char** argv) {
         "cycles", "Compute an orthogonal system of 2g cycles (paper, Definition 6) on each component.\n"
                   "Writes DIR/layout.ply (the surface the cycles live on), DIR/cycles.json and\n"
                   "DIR/report.json; a mesh of several components gets DIR/component_<i>/ each.");
-    cycles_cmd->add_option("MESH", cycles.mesh, "Closed triangle mesh: OBJ, PLY, OFF or STL")->required();
-    cycles_cmd->add_option("-o,--output", cycles.output_dir, "Output directory (created if missing)")->required();
-    cycles_cmd->add_flag("-q,--quiet", cycles.quiet, "No progress messages on stderr");
+    add_mesh_output_quiet(cycles_cmd, cycles.mesh, cycles.output_dir, cycles.quiet);
 
     LayoutOptions layout;
     CLI::App* layout_cmd = app.add_subcommand(
@@ -41,9 +50,7 @@ int main(int argc, char** argv) {
                   "sphere; verified before anything is written. Writes DIR/layout.ply (face property patch),\n"
                   "cage.obj, cage.json (exact topology), cage_level1.obj, cycles.json and report.json; a mesh\n"
                   "of several components gets DIR/component_<i>/ each.");
-    layout_cmd->add_option("MESH", layout.mesh, "Closed triangle mesh: OBJ, PLY, OFF or STL")->required();
-    layout_cmd->add_option("-o,--output", layout.output_dir, "Output directory (created if missing)")->required();
-    layout_cmd->add_flag("-q,--quiet", layout.quiet, "No progress messages on stderr");
+    add_mesh_output_quiet(layout_cmd, layout.mesh, layout.output_dir, layout.quiet);
 
     FitCommandOptions fitopt;
     CLI::App* fit_cmd = app.add_subcommand(
@@ -52,8 +59,7 @@ int main(int argc, char** argv) {
                "Embree). Writes the layout files and fitted_cage.obj, limit.ply (per-vertex distance to the\n"
                "input), deviation.ply (the input with per-vertex distance to the surface) and report.json.\n"
                "Errors are relative to the bounding-box diagonal.");
-    fit_cmd->add_option("MESH", fitopt.mesh, "Closed triangle mesh: OBJ, PLY, OFF or STL")->required();
-    fit_cmd->add_option("-o,--output", fitopt.output_dir, "Output directory (created if missing)")->required();
+    add_mesh_output_quiet(fit_cmd, fitopt.mesh, fitopt.output_dir, fitopt.quiet);
     auto* level_opt = fit_cmd->add_option("--level", fitopt.level, "Refinements of the cage to fit (0 = the 8g-8 corners); default 3")
         ->check(CLI::Range(0, 7));
     fit_cmd->add_option("--tolerance", fitopt.tolerance,
@@ -63,7 +69,6 @@ int main(int argc, char** argv) {
     fit_cmd->add_option("--max-level", fitopt.max_level, "Highest level tried with --tolerance (default 5)")
         ->check(CLI::Range(0, 7));
     fit_cmd->add_flag("--json", fitopt.json, "Print report.json instead of the summary");
-    fit_cmd->add_flag("-q,--quiet", fitopt.quiet, "No progress messages on stderr");
 
     CLI::App* version_cmd = app.add_subcommand(
         "version", "Print the versions of quadcage and the libraries it runs on (each checked by a call).");
