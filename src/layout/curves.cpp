@@ -66,18 +66,22 @@ std::vector<char> Builder::blocked() const {
     return b;
 }
 
+std::unordered_set<std::uint64_t> Builder::obstacle_edges() const {
+    std::unordered_set<std::uint64_t> keys;
+    for (size_t c = 0; c < curves_.size(); ++c) {
+        if (!obstacle_[c]) continue;  // an edge of a curve that is no obstacle is a chord too
+        const Cycle& cv = curves_[c];
+        const size_t n = cv.size();
+        for (size_t i = 0; i + (closed_[c] ? 0 : 1) < n; ++i) keys.insert(edge_key(cv[i], cv[(i + 1) % n]));
+    }
+    return keys;
+}
+
 int Builder::split_chords(const std::vector<Cycle>& extra) {
     std::vector<char> on = blocked();
-    std::unordered_set<std::uint64_t> curve_edges;
-    auto add = [&](const Cycle& c, bool closed) {
-        const size_t n = c.size();
-        for (size_t i = 0; i + (closed ? 0 : 1) < n; ++i) curve_edges.insert(edge_key(c[i], c[(i + 1) % n]));
-    };
-    for (size_t c = 0; c < curves_.size(); ++c)
-        if (obstacle_[c])
-            add(curves_[c], closed_[c]);  // an edge of a curve that is no obstacle is a chord too
+    std::unordered_set<std::uint64_t> curve_edges = obstacle_edges();
     for (const Cycle& c : extra) {
-        add(c, false);
+        for (size_t i = 0; i + 1 < c.size(); ++i) curve_edges.insert(edge_key(c[i], c[i + 1]));
         for (int v : c) on[v] = 1;
     }
     std::vector<std::pair<int, int>> chords;
@@ -92,14 +96,7 @@ int Builder::split_chords(const std::vector<Cycle>& extra) {
 
 int Builder::split_chords_around(const std::vector<char>& reached) {
     const std::vector<char> on = blocked();
-    std::unordered_set<std::uint64_t> curve_edges;
-    for (size_t c = 0; c < curves_.size(); ++c) {
-        if (!obstacle_[c]) continue;
-        const Cycle& cv = curves_[c];
-        const size_t n = cv.size();
-        for (size_t i = 0; i + (closed_[c] ? 0 : 1) < n; ++i)
-            curve_edges.insert(edge_key(cv[i], cv[(i + 1) % n]));
-    }
+    const std::unordered_set<std::uint64_t> curve_edges = obstacle_edges();
     auto is_chord = [&](int h) {
         const int a = s_.from(h), b = s_.to(h);
         return on[a] && on[b] && !curve_edges.count(edge_key(a, b));
@@ -147,8 +144,8 @@ void Builder::split_curve_edges(const std::vector<std::pair<int, int>>& edges) {
     for (size_t i = 0; i < edges.size(); ++i) split.push_back({edges[i].first, edges[i].second, mids[i]});
     std::vector<std::vector<int>> closed, open;
     for (size_t c = 0; c < curves_.size(); ++c) (closed_[c] ? closed : open).push_back(std::move(curves_[c]));
-    insert_midpoints(closed, split);
-    insert_midpoints_open(open, split);
+    insert_midpoints(closed, split, true);
+    insert_midpoints(open, split, false);
     size_t ic = 0, io = 0;
     for (size_t c = 0; c < curves_.size(); ++c)
         curves_[c] = std::move(closed_[c] ? closed[ic++] : open[io++]);
@@ -211,24 +208,6 @@ std::vector<int> Builder::sector_path(int x, const std::vector<int>& from_sector
     }
     if (total) *total = r.target_cost;
     return r.path_to(s_, r.target);
-}
-
-void insert_midpoints_open(std::vector<std::vector<int>>& paths,
-                           const std::vector<std::array<int, 3>>& split) {
-    if (split.empty()) return;
-    std::map<std::pair<int, int>, int> mid;
-    for (const auto& s : split) mid[{std::min(s[0], s[1]), std::max(s[0], s[1])}] = s[2];
-    for (std::vector<int>& p : paths) {
-        std::vector<int> out;
-        out.reserve(p.size());
-        for (size_t i = 0; i < p.size(); ++i) {
-            out.push_back(p[i]);
-            if (i + 1 == p.size()) break;
-            auto it = mid.find({std::min(p[i], p[i + 1]), std::max(p[i], p[i + 1])});
-            if (it != mid.end()) out.push_back(it->second);
-        }
-        p = std::move(out);
-    }
 }
 
 }  // namespace quadcage::layout::detail

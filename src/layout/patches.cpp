@@ -57,6 +57,22 @@ UV side_point(int k, double t) {
     }
 }
 
+std::vector<UV> boundary_positions(const Mesh& mesh, const std::vector<int>& loop, const std::vector<int>& side) {
+    const size_t n = loop.size();
+    auto step = [&](size_t i) { return norm(mesh.points[loop[(i + 1) % n]] - mesh.points[loop[i]]); };
+    std::array<double, 4> length{0, 0, 0, 0};
+    for (size_t i = 0; i < n; ++i) length[side[i]] += step(i);
+    std::vector<UV> uv(n);
+    double run = 0;
+    for (size_t i = 0; i < n; ++i) {
+        const int k = side[i];
+        if (i == 0 || side[i - 1] != k) run = 0;
+        uv[i] = side_point(k, length[k] > 0 ? run / length[k] : 0.0);
+        run += step(i);
+    }
+    return uv;
+}
+
 std::vector<char> cut_half_edges(const Surface& s, const std::vector<std::vector<int>>& paths) {
     std::vector<char> cut(s.num_half_edges(), 0);
     for (const auto& p : paths)
@@ -146,20 +162,11 @@ std::string extract_cage(const Surface& s, const std::vector<int>& corners,
     std::vector<int> faces(np, 0);
     for (int t = 0; t < s.num_half_edges() / 3; ++t) ++faces[label[t]];
     std::vector<std::vector<int>> patch_vertices(np);
-    {
-        std::vector<int> last(n, -1);
-        for (int t = 0; t < s.num_half_edges() / 3; ++t)
-            for (int v : s.mesh().triangles[t])
-                if (last[v] != label[t]) {
-                    // A vertex may be visited by the same patch more than once non-consecutively: dedupe
-                    // below.
-                    patch_vertices[label[t]].push_back(v);
-                    last[v] = label[t];
-                }
-        for (auto& pv : patch_vertices) {
-            std::sort(pv.begin(), pv.end());
-            pv.erase(std::unique(pv.begin(), pv.end()), pv.end());
-        }
+    for (int t = 0; t < s.num_half_edges() / 3; ++t)
+        for (int v : s.mesh().triangles[t]) patch_vertices[label[t]].push_back(v);
+    for (auto& pv : patch_vertices) {
+        std::sort(pv.begin(), pv.end());
+        pv.erase(std::unique(pv.begin(), pv.end()), pv.end());
     }
     for (int p = 0; p < np; ++p) {
         const long edges = (3L * faces[p] + boundary_count[p]) / 2;
@@ -235,18 +242,10 @@ void parameterize_patches(QuadLayout* layout) {
     std::vector<int> loop, side;
     for (int q = 0; q < nq; ++q) {
         quad_boundary(*layout, q, &loop, &side);
-        // Arc length along each side.
-        std::array<double, 4> side_length{0, 0, 0, 0};
-        for (size_t i = 0; i < loop.size(); ++i)
-            side_length[side[i]] += norm(mesh.points[loop[(i + 1) % loop.size()]] - mesh.points[loop[i]]);
-        double run = 0;
+        const std::vector<UV> on_sides = boundary_positions(mesh, loop, side);
         for (size_t i = 0; i < loop.size(); ++i) {
-            const int k = side[i];
-            if (i == 0 || side[i - 1] != k) run = 0;
-            const double t = side_length[k] > 0 ? run / side_length[k] : 0.0;
-            boundary_uv[loop[i]] = side_point(k, t);
+            boundary_uv[loop[i]] = on_sides[i];
             local[loop[i]] = -2;
-            run += norm(mesh.points[loop[(i + 1) % loop.size()]] - mesh.points[loop[i]]);
         }
         std::vector<int> unknowns;
         for (int t : patch_triangles[q])

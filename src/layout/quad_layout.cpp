@@ -177,8 +177,7 @@ std::optional<std::vector<int>> route_ring(Builder& b, const std::vector<int>& s
     return arcs;
 }
 
-// Distances inside `piece` from the vertices of closed curve `curve` (crossing no S-cycle), and
-// from them the distance of each vertex x of hole curve `to` (reached from the piece's side).
+// Distances inside `piece` from the vertices of closed curve `from_curve`, crossing no S-cycle.
 std::vector<double> hole_distances(const Builder& b, const std::vector<int>& label, int piece, int from_curve,
                                    const std::vector<char>& on_s) {
     std::vector<char> block = outside_piece(b.s_, label, piece);
@@ -189,12 +188,23 @@ std::vector<double> hole_distances(const Builder& b, const std::vector<int>& lab
     return detail::dijkstra(b.s_, q).distance;
 }
 
-double distance_from_side(const Builder& b, const std::vector<double>& field, const Cycle& hole, int x,
-                          const std::vector<int>& label, int piece) {
-    double best = kInf;
-    for (int w : side_toward(b.s_, hole, x, label, piece))
-        if (field[w] < kInf) best = std::min(best, field[w] + norm(b.s_.point(w) - b.s_.point(x)));
-    return best;
+// reach[k][m][i]: distance inside `piece` from vertex i of hole k, leaving through the piece's side,
+// to hole m (distance fields `field`); +inf for m = k.
+using HoleReach = std::array<std::array<std::vector<double>, 4>, 4>;
+HoleReach hole_reach(const Builder& b, const std::vector<Hole>& holes, const std::array<std::vector<double>, 4>& field,
+                     const std::vector<int>& label, int piece) {
+    HoleReach reach;
+    for (int k = 0; k < 4; ++k) {
+        const Cycle& c = b.curves_[holes[k].curve];
+        for (auto& r : reach[k]) r.assign(c.size(), kInf);
+        for (size_t i = 0; i < c.size(); ++i)
+            for (int w : side_toward(b.s_, c, c[i], label, piece)) {
+                const double step = norm(b.s_.point(w) - b.s_.point(c[i]));
+                for (int m = 0; m < 4; ++m)
+                    if (m != k && field[m][w] < kInf) reach[k][m][i] = std::min(reach[k][m][i], field[m][w] + step);
+            }
+    }
+    return reach;
 }
 
 // Algorithm 1 (paper §4): 4g-4 cycles S_i, each crossing the orthogonal system once, on an arc of
@@ -333,6 +343,7 @@ std::vector<std::pair<Hole, std::array<int, 2>>> route_tshirt(Builder& b, const 
         std::array<int, 4> bottom{}, top{};
         double estimate = 0;  // both rings' length, from the hole distance fields
     };
+    const HoleReach reach = hole_reach(b, holes, field, label, piece);
     std::array<Plan, 6> plans;
     for (int o = 0; o < 6; ++o) {
         const auto& order = kOrders[o];
@@ -344,8 +355,7 @@ std::vector<std::pair<Hole, std::array<int, 2>>> route_tshirt(Builder& b, const 
             double low = kInf;
             size_t at = 0;
             for (size_t i = 0; i < c.size(); ++i) {
-                const double d = distance_from_side(b, field[kp], c, c[i], label, piece) +
-                                 distance_from_side(b, field[kn], c, c[i], label, piece);
+                const double d = reach[k][kp][i] + reach[k][kn][i];
                 if (d < low) {
                     low = d;
                     at = i;
@@ -353,7 +363,7 @@ std::vector<std::pair<Hole, std::array<int, 2>>> route_tshirt(Builder& b, const 
             }
             plan.bottom[j] = c[at];
             plan.top[j] = vertex_at_fraction(b.s_.mesh(), c, at, 0.5);
-            plan.estimate += 0.5 * low + distance_from_side(b, field[kn], c, plan.top[j], label, piece);
+            plan.estimate += 0.5 * low + reach[k][kn][static_cast<size_t>(index_in(c, plan.top[j]))];
         }
     }
     // Route the cyclic orders from the most promising estimate on, both directions each; stop at

@@ -116,7 +116,8 @@ std::vector<int> Surface::split_edges(const std::vector<std::pair<int, int>>& ed
     return result;
 }
 
-void insert_midpoints(std::vector<std::vector<int>>& curves, const std::vector<std::array<int, 3>>& split) {
+void insert_midpoints(std::vector<std::vector<int>>& curves, const std::vector<std::array<int, 3>>& split,
+                      bool closed) {
     if (split.empty()) return;
     std::map<std::pair<int, int>, int> mid;
     for (const auto& s : split) mid[{std::min(s[0], s[1]), std::max(s[0], s[1])}] = s[2];
@@ -124,8 +125,9 @@ void insert_midpoints(std::vector<std::vector<int>>& curves, const std::vector<s
         std::vector<int> out;
         out.reserve(c.size());
         for (size_t i = 0; i < c.size(); ++i) {
+            out.push_back(c[i]);
+            if (!closed && i + 1 == c.size()) break;
             const int a = c[i], b = c[(i + 1) % c.size()];
-            out.push_back(a);
             auto it = mid.find({std::min(a, b), std::max(a, b)});
             if (it != mid.end()) out.push_back(it->second);
         }

@@ -152,15 +152,10 @@ std::string verify_quad_layout(const QuadLayout& L) {
     std::vector<char> on_boundary(n, 0);
     for (int q = 0; q < L.cage.num_quads(); ++q) {
         detail::quad_boundary(L, q, &loop, &side);
-        std::array<double, 4> len{0, 0, 0, 0};
-        for (size_t i = 0; i < loop.size(); ++i)
-            len[side[i]] += norm(mesh.points[loop[(i + 1) % loop.size()]] - mesh.points[loop[i]]);
-        double run = 0;
+        const std::vector<UV> on_sides = detail::boundary_positions(mesh, loop, side);
         for (size_t i = 0; i < loop.size(); ++i) {
-            if (i == 0 || side[i] != side[i - 1]) run = 0;
-            expected[loop[i]] = detail::side_point(side[i], len[side[i]] > 0 ? run / len[side[i]] : 0);
+            expected[loop[i]] = on_sides[i];
             on_boundary[loop[i]] = 1;
-            run += norm(mesh.points[loop[(i + 1) % loop.size()]] - mesh.points[loop[i]]);
         }
         for (int t : patch_triangles[q]) {
             for (int k = 0; k < 3; ++k) {

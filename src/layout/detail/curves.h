@@ -7,6 +7,7 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <unordered_set>
 #include <utility>
 #include <vector>
 
@@ -48,6 +49,9 @@ public:
 
     /// Vertices on obstacle curves.
     std::vector<char> blocked() const;
+
+    /// Keys (edge_key) of the mesh edges that obstacle curves walk along.
+    std::unordered_set<std::uint64_t> obstacle_edges() const;
 
     /// Splits every edge whose two ends are on obstacle curves (or `extra` curves) but which no
     /// such curve walks along, so that paths can pass between curves that run side by side
@@ -91,10 +95,5 @@ public:
                                  const std::function<double(int)>& cost, double* total,
                                  std::vector<char>* reached = nullptr) const;
 };
-
-/// Inserts into each open path the midpoints of its split edges (insert_midpoints() for paths
-/// that do not close).
-void insert_midpoints_open(std::vector<std::vector<int>>& paths,
-                           const std::vector<std::array<int, 3>>& split);
 
 }  // namespace quadcage::layout::detail

@@ -44,6 +44,10 @@ void quad_boundary(const QuadLayout& layout, int q, std::vector<int>* loop, std:
 /// counter-clockwise from (0,0): (t,0), (1,t), (1-t,1), (0,1-t).
 UV side_point(int k, double t);
 
+/// The (u, v) of each vertex of a quad_boundary() loop: on side k at its arc-length fraction t along
+/// the side, side_point(k, t). Both patches of a layout edge so agree on its vertices.
+std::vector<UV> boundary_positions(const Mesh& mesh, const std::vector<int>& loop, const std::vector<int>& side);
+
 /// Fills layout->quality.
 void measure_quality(QuadLayout* layout);
 

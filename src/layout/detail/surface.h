@@ -52,9 +52,10 @@ private:
     std::vector<int> out_;
 };
 
-/// Inserts into each closed curve the midpoints of its split edges. `split` lists (a, b, m): edge
-/// a-b was split at new vertex m.
-void insert_midpoints(std::vector<std::vector<int>>& curves, const std::vector<std::array<int, 3>>& split);
+/// Inserts into each curve the midpoints of its split edges. `split` lists (a, b, m): edge a-b was
+/// split at new vertex m. Closed curves also walk the edge from their last vertex to their first.
+void insert_midpoints(std::vector<std::vector<int>>& curves, const std::vector<std::array<int, 3>>& split,
+                      bool closed = true);
 
 /// A single-source or multi-source Dijkstra on the vertex graph of a Surface.
 struct PathSearch {
