@@ -1,14 +1,16 @@
 // run_child(): exit codes, signals, timeouts (whole process group), stderr capture, missing programs.
 
-#include <gtest/gtest.h>
+#include "quadcage/bench/child_process.h"
 
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <chrono>
 #include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
-#include <unistd.h>
-
-#include "quadcage/bench/child_process.h"
+#include <thread>
 
 namespace {
 
@@ -28,7 +30,8 @@ TEST(RunChild, ExitCodeStdoutAndStderr) {
     o.stdout_path = (scratch() / "out.txt").string();
     o.stderr_path = (scratch() / "err.txt").string();
     std::ofstream(o.stderr_path) << "earlier stage\n";
-    const ChildResult r = run_child({"/bin/sh", "-c", "echo hello; echo first >&2; echo 'last line' >&2; exit 7"}, o);
+    const ChildResult r =
+        run_child({"/bin/sh", "-c", "echo hello; echo first >&2; echo 'last line' >&2; exit 7"}, o);
     EXPECT_EQ(r.end, ChildResult::End::exited);
     EXPECT_EQ(r.exit_code, 7);
     EXPECT_FALSE(r.ok());
@@ -55,17 +58,24 @@ TEST(RunChild, TimeoutKillsTheProcessGroup) {
     ChildOptions o;
     o.timeout_seconds = 0.5;
     // The shell starts a background sleeper (a grandchild) and waits.
-    const ChildResult r = run_child({"/bin/sh", "-c", "sleep 30 & echo $! > '" + pid_file.string() + "'; wait"}, o);
+    const ChildResult r =
+        run_child({"/bin/sh", "-c", "sleep 30 & echo $! > '" + pid_file.string() + "'; wait"}, o);
     EXPECT_EQ(r.end, ChildResult::End::timed_out);
     EXPECT_GE(r.seconds, 0.5);
     EXPECT_LT(r.seconds, 10.0);
     std::ifstream in(pid_file);
     int pid = 0;
     ASSERT_TRUE(in >> pid);
-    // Killed with its group: gone, or a zombie waiting for init.
-    std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
+    // Killed with its group: gone, or a zombie waiting for init. SIGKILL is delivered
+    // asynchronously, so give the kernel up to 5 s to finish it before looking.
     std::string text;
-    std::getline(stat, text);
+    for (int i = 0; i < 100; ++i) {
+        std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
+        text.clear();
+        std::getline(stat, text);
+        if (text.empty() || text.find(") Z") != std::string::npos) break;
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
     if (!text.empty()) {
         EXPECT_NE(text.find(") Z"), std::string::npos) << text;
     }
