@@ -15,6 +15,8 @@ namespace quadcage::layout::detail {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
+/// Reweighting rounds of the stretch-minimising patch maps (each one sparse factorisation).
+constexpr int kStretchIterations = 8;
 
 Vec3 vertex_normal(const Surface& s, int v) {
     Vec3 n;
@@ -256,51 +258,6 @@ void parameterize_patches(QuadLayout* layout) {
                 }
         const int m = static_cast<int>(unknowns.size());
         std::vector<UV> uv_of(m, UV{0.5, 0.5});
-        // Clamped cotangent weights: symmetric and positive, so the system is SPD and the map
-        // cannot fold (Tutte / Floater) while staying close to conformal. In long thin patches the
-        // map squeezes some triangles below rounding; those patches are solved again with Tutte's
-        // uniform weights, which squeeze less.
-        auto solve = [&](bool uniform) {
-            std::vector<Eigen::Triplet<double>> entries;
-            Eigen::MatrixX2d rhs = Eigen::MatrixX2d::Zero(m, 2);
-            std::unordered_map<std::uint64_t, double> weight;
-            for (int t : patch_triangles[q]) {
-                const Triangle& tri = mesh.triangles[t];
-                for (int k = 0; k < 3; ++k) {
-                    const int i = tri[k], j = tri[(k + 1) % 3], o = tri[(k + 2) % 3];
-                    const Vec3 a = mesh.points[i] - mesh.points[o], b = mesh.points[j] - mesh.points[o];
-                    const double c = norm(cross(a, b));
-                    const double cot = c > 0 ? std::clamp(dot(a, b) / c, -1e3, 1e3) : 1e3;
-                    weight[edge_key(i, j)] += uniform ? 0.5 : 0.5 * cot;
-                }
-            }
-            std::vector<double> diagonal(m, 0);
-            for (const auto& [key, w0] : weight) {
-                const int i = static_cast<int>(key >> 32), j = static_cast<int>(key & 0xffffffffu);
-                const double w = uniform ? 1.0 : std::max(w0, 0.05);
-                const int li = local[i], lj = local[j];
-                if (li >= 0) diagonal[li] += w;
-                if (lj >= 0) diagonal[lj] += w;
-                if (li >= 0 && lj >= 0) {
-                    entries.emplace_back(li, lj, -w);
-                    entries.emplace_back(lj, li, -w);
-                } else if (li >= 0) {
-                    rhs(li, 0) += w * boundary_uv[j][0];
-                    rhs(li, 1) += w * boundary_uv[j][1];
-                } else if (lj >= 0) {
-                    rhs(lj, 0) += w * boundary_uv[i][0];
-                    rhs(lj, 1) += w * boundary_uv[i][1];
-                }
-            }
-            for (int i = 0; i < m; ++i) entries.emplace_back(i, i, diagonal[i]);
-            Eigen::SparseMatrix<double> A(m, m);
-            A.setFromTriplets(entries.begin(), entries.end());
-            Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(A);
-            QC_CHECK(solver.info() == Eigen::Success,
-                     "parameterize_patches: factorisation failed on patch " + std::to_string(q));
-            const Eigen::MatrixX2d x = solver.solve(rhs);
-            for (int i = 0; i < m; ++i) uv_of[i] = {x(i, 0), x(i, 1)};
-        };
         auto uv = [&](int v) { return local[v] >= 0 ? uv_of[local[v]] : boundary_uv[v]; };
         auto folds = [&]() {
             for (int t : patch_triangles[q]) {
@@ -311,8 +268,127 @@ void parameterize_patches(QuadLayout* layout) {
             return false;
         };
         if (m > 0) {
-            solve(false);
-            if (folds()) solve(true);
+            // Edges of the patch with their clamped cotangent weights: symmetric and positive, so
+            // the system is SPD and the map cannot fold (Tutte / Floater) while staying close to
+            // conformal.
+            std::unordered_map<std::uint64_t, double> cot;
+            for (int t : patch_triangles[q]) {
+                const Triangle& tri = mesh.triangles[t];
+                for (int k = 0; k < 3; ++k) {
+                    const int i = tri[k], j = tri[(k + 1) % 3], o = tri[(k + 2) % 3];
+                    const Vec3 a = mesh.points[i] - mesh.points[o], b = mesh.points[j] - mesh.points[o];
+                    const double c = norm(cross(a, b));
+                    cot[edge_key(i, j)] += 0.5 * (c > 0 ? std::clamp(dot(a, b) / c, -1e3, 1e3) : 1e3);
+                }
+            }
+            std::vector<std::pair<int, int>> edges;
+            std::vector<double> base;
+            edges.reserve(cot.size());
+            for (const auto& [key, w] : cot) {
+                edges.push_back({static_cast<int>(key >> 32), static_cast<int>(key & 0xffffffffu)});
+                base.push_back(std::max(w, 0.05));
+            }
+            // Deterministic order (the hash map's is not).
+            std::vector<size_t> order(edges.size());
+            for (size_t k = 0; k < order.size(); ++k) order[k] = k;
+            std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return edges[a] < edges[b]; });
+            {
+                std::vector<std::pair<int, int>> e2;
+                std::vector<double> b2;
+                for (size_t k : order) e2.push_back(edges[k]), b2.push_back(base[k]);
+                edges.swap(e2);
+                base.swap(b2);
+            }
+            Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver;
+            bool analysed = false;
+            // Solves the patch with edge weights w (same sparsity every time: analysed once).
+            auto solve = [&](const std::vector<double>& w) {
+                std::vector<Eigen::Triplet<double>> entries;
+                Eigen::MatrixX2d rhs = Eigen::MatrixX2d::Zero(m, 2);
+                std::vector<double> diagonal(m, 0);
+                for (size_t k = 0; k < edges.size(); ++k) {
+                    const auto [i, j] = edges[k];
+                    const int li = local[i], lj = local[j];
+                    if (li >= 0) diagonal[li] += w[k];
+                    if (lj >= 0) diagonal[lj] += w[k];
+                    if (li >= 0 && lj >= 0) {
+                        entries.emplace_back(li, lj, -w[k]);
+                        entries.emplace_back(lj, li, -w[k]);
+                    } else if (li >= 0) {
+                        rhs(li, 0) += w[k] * boundary_uv[j][0];
+                        rhs(li, 1) += w[k] * boundary_uv[j][1];
+                    } else if (lj >= 0) {
+                        rhs(lj, 0) += w[k] * boundary_uv[i][0];
+                        rhs(lj, 1) += w[k] * boundary_uv[i][1];
+                    }
+                }
+                for (int i = 0; i < m; ++i) entries.emplace_back(i, i, diagonal[i]);
+                Eigen::SparseMatrix<double> A(m, m);
+                A.setFromTriplets(entries.begin(), entries.end());
+                if (!analysed) solver.analyzePattern(A), analysed = true;
+                solver.factorize(A);
+                QC_CHECK(solver.info() == Eigen::Success,
+                         "parameterize_patches: factorisation failed on patch " + std::to_string(q));
+                const Eigen::MatrixX2d x = solver.solve(rhs);
+                for (int i = 0; i < m; ++i) uv_of[i] = {x(i, 0), x(i, 1)};
+            };
+            std::vector<double> w = base;
+            solve(w);
+            if (folds()) {
+                // In long thin patches the cotangent map squeezes some triangles below rounding;
+                // Tutte's uniform weights squeeze less.
+                w.assign(edges.size(), 1.0);
+                solve(w);
+            }
+            // Stretch minimisation (Yoshizawa, Belyaev & Seidel 2004): a harmonic map squeezes the
+            // far end of a bulging patch (a head bounded by a loop round the neck) exponentially,
+            // and the fit would put almost no control points there. Reweight each edge by the local
+            // L2 stretch of its end vertices and solve again; keep the least stretched map. The
+            // weights stay positive and symmetric: still a Tutte map, still SPD.
+            if (!folds()) {
+                const std::vector<int>& tris = patch_triangles[q];
+                std::vector<double> area3(tris.size());
+                double total3 = 0;
+                for (size_t k = 0; k < tris.size(); ++k) total3 += area3[k] = triangle_area(mesh, tris[k]);
+                std::vector<double> sigma_sum(n, 0), area_sum(n, 0);
+                // Patch L2 stretch of the current map (uv scaled to the patch's 3D area) and the
+                // per-vertex stretch in sigma_sum; infinite if a triangle is degenerate in uv.
+                auto stretch = [&]() {
+                    double e = 0;
+                    for (size_t k = 0; k < tris.size(); ++k) {
+                        const Triangle& tri = mesh.triangles[tris[k]];
+                        const UV a = uv(tri[0]), b = uv(tri[1]), c = uv(tri[2]);
+                        const double two_a = (b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1]);
+                        if (!(two_a > 0)) return std::numeric_limits<double>::infinity();
+                        const Vec3 &p0 = mesh.points[tri[0]], &p1 = mesh.points[tri[1]], &p2 = mesh.points[tri[2]];
+                        // Derivatives of the inverse map (uv -> 3D); with the unit square scaled to
+                        // the patch's 3D area, Sander's L2 stretch is (|d/ds|^2 + |d/dt|^2) / 2.
+                        const Vec3 ds = (p0 * (b[1] - c[1]) + p1 * (c[1] - a[1]) + p2 * (a[1] - b[1])) / two_a;
+                        const Vec3 dt = (p0 * (c[0] - b[0]) + p1 * (a[0] - c[0]) + p2 * (b[0] - a[0])) / two_a;
+                        const double l2 = 0.5 * (dot(ds, ds) + dot(dt, dt)) / total3;
+                        e += area3[k] * l2;
+                        for (int v : tri) sigma_sum[v] += area3[k] * l2, area_sum[v] += area3[k];
+                    }
+                    return std::sqrt(e / total3);
+                };
+                std::vector<UV> best_uv = uv_of;
+                double best = stretch();
+                for (int it = 0; it < kStretchIterations && std::isfinite(best); ++it) {
+                    for (size_t k = 0; k < edges.size(); ++k) {
+                        const auto [i, j] = edges[k];
+                        const double si = std::sqrt(sigma_sum[i] / area_sum[i]), sj = std::sqrt(sigma_sum[j] / area_sum[j]);
+                        w[k] /= std::sqrt(si * sj);
+                    }
+                    solve(w);
+                    for (int t : tris)
+                        for (int v : mesh.triangles[t]) sigma_sum[v] = area_sum[v] = 0;
+                    const double e = folds() ? std::numeric_limits<double>::infinity() : stretch();
+                    if (!(e < 0.99 * best)) break;
+                    best = e;
+                    best_uv = uv_of;
+                }
+                uv_of = best_uv;
+            }
         }
         for (int t : patch_triangles[q])
             for (int k = 0; k < 3; ++k) {

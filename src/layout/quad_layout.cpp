@@ -9,6 +9,7 @@
 
 #include "detail/curves.h"
 #include "detail/patches.h"
+#include "detail/relax.h"
 #include "detail/surface.h"
 #include "quadcage/core/errors.h"
 #include "quadcage/core/validate.h"
@@ -736,6 +737,7 @@ int remove_hairpins(const Surface& s, Cycle& c, bool closed, const std::vector<c
 }  // namespace
 
 std::string QuadLayoutOptions::validate() const {
+    if (relax_sweeps < 0) return "relax_sweeps must be >= 0, got " + std::to_string(relax_sweeps);
     return cycles.validate();
 }
 
@@ -820,19 +822,56 @@ QuadLayout build_quad_layout(const Mesh& input, const QuadLayoutOptions& options
             }
             b.split_chords();
 
-            std::vector<std::vector<int>> paths;
-            for (const auto& [id, cs] : net.closed) {
-                Cycle c = b.curves_[id];
-                const int i0 = index_in(c, cs[0]);
-                QC_CHECK(i0 >= 0 && index_in(c, cs[1]) >= 0, "a layout cycle lost its corners");
-                std::rotate(c.begin(), c.begin() + i0, c.end());
-                const int i1 = index_in(c, cs[1]);
-                paths.emplace_back(c.begin(), c.begin() + i1 + 1);
-                std::vector<int> rest(c.begin() + i1, c.end());
-                rest.push_back(c[0]);
-                paths.push_back(rest);
+            // Layout edges: each closed curve cut at its two corners, then the arcs.
+            auto edge_paths_of = [&](const Builder& bb, const Network& nn) {
+                std::vector<std::vector<int>> paths;
+                for (const auto& [id, cs] : nn.closed) {
+                    Cycle c = bb.curves_[id];
+                    const int i0 = index_in(c, cs[0]);
+                    QC_CHECK(i0 >= 0 && index_in(c, cs[1]) >= 0, "a layout cycle lost its corners");
+                    std::rotate(c.begin(), c.begin() + i0, c.end());
+                    const int i1 = index_in(c, cs[1]);
+                    paths.emplace_back(c.begin(), c.begin() + i1 + 1);
+                    std::vector<int> rest(c.begin() + i1, c.end());
+                    rest.push_back(c[0]);
+                    paths.push_back(rest);
+                }
+                for (int id : nn.arcs) paths.push_back(bb.curves_[id]);
+                return paths;
+            };
+            std::vector<std::vector<int>> paths = edge_paths_of(b, net);
+            if (options.relax_sweeps > 0) {
+                // Relax: every layout edge to the middle of its two patches. The relaxed edges
+                // become new curves (the S-cycles and the orthogonal system keep the routes
+                // Algorithm 1 gave them); chords they make are split as before.
+                say("relaxing the layout edges");
+                detail::RelaxOptions ro;
+                ro.sweeps = options.relax_sweeps;
+                Builder relaxed = b;
+                std::vector<std::vector<int>> moved = paths;
+                detail::relax_layout_edges(relaxed.s_, &moved, ro);
+                Network rn;
+                rn.corners = net.corners;
+                for (auto& o : relaxed.obstacle_) o = 0;
+                size_t k = 0;
+                for (const auto& [id, cs] : net.closed) {
+                    Cycle c = moved[k];
+                    c.insert(c.end(), moved[k + 1].begin() + 1, moved[k + 1].end() - 1);
+                    k += 2;
+                    rn.closed.push_back({relaxed.add_curve(c, true, true), cs});
+                }
+                for (size_t a = 0; a < net.arcs.size(); ++a) rn.arcs.push_back(relaxed.add_curve(moved[k++], false, true));
+                relaxed.split_chords();
+                std::vector<std::vector<int>> relaxed_paths = edge_paths_of(relaxed, rn);
+                QuadLayout trial = out;
+                trial.mesh = relaxed.s_.mesh();
+                if (detail::extract_cage(relaxed.s_, rn.corners, relaxed_paths, &trial).empty()) {
+                    b = std::move(relaxed);
+                    paths = std::move(relaxed_paths);
+                } else {
+                    say("the relaxed layout edges do not form a quad layout; keeping them unrelaxed");
+                }
             }
-            for (int id : net.arcs) paths.push_back(b.curves_[id]);
 
             out.mesh = b.s_.mesh();
             for (int i = 0; i < 2 * g; ++i) out.orthogonal_system.push_back(b.curves_[i]);

@@ -19,6 +19,8 @@ using UV = std::array<double, 2>;
 /// Options for build_quad_layout().
 struct QuadLayoutOptions {
     OrthogonalSystemOptions cycles;  ///< For the orthogonal system the layout starts from (g >= 1).
+    int relax_sweeps = 3;  ///< Passes that move every layout edge to the middle of its two patches
+                           ///< (0: keep the constructed routes), >= 0.
     std::function<void(const std::string&)>
         progress;                  ///< Called with a short message per stage; may be empty.
     std::string validate() const;  ///< Empty if valid, else what is wrong.
