@@ -76,6 +76,7 @@ std::string FitOptions::validate() const {
     if (!(min_improvement >= 0 && min_improvement < 1)) return "min_improvement must be in [0, 1)";
     if (!finite_nonneg(smoothness_start) || !finite_nonneg(smoothness_end))
         return "smoothness weights must be finite and >= 0";
+    if (!(tangential_weight >= 0 && tangential_weight <= 1)) return "tangential_weight must be in [0, 1]";
     if (!finite_nonneg(surface_to_input_weight)) return "surface_to_input_weight must be finite and >= 0";
     if (!(huber_scale > 0) || !std::isfinite(huber_scale)) return "huber_scale must be positive and finite";
     if (area_samples < 0) return "area_samples must be >= 0";
@@ -91,6 +92,8 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 using detail::seconds_since;
+/// Data points farther than this from their foot (relative to the diagonal) are fitted point to point.
+constexpr double kNearDistance = 1e-2;
 /// A sparse linear combination of the free variables.
 using Combo = std::vector<std::pair<int, double>>;
 
@@ -304,6 +307,38 @@ double data_rms(const subdiv::LimitSurface& surface, const std::vector<DataPoint
     return data.empty() ? 0.0 : std::sqrt(sum / data.size());
 }
 
+/// New feet of the data points on the (moved) surface: the better of a local projection from the
+/// old foot and one from the closest point of a tessellation of the whole surface. The local walk
+/// alone stays in the basin of its old foot: where a distorted patch map put a foot on the wrong
+/// side of a thin part, the fit pulls the surface there into a fin and never lets go.
+void update_correspondences(const subdiv::LimitSurface& surface, std::vector<DataPoint>* data, int threads) {
+    constexpr int n = 4;  // segments per face side: 32 triangles per face
+    const subdiv::LimitTessellation tess = surface.tessellate(n);
+    const accel::ClosestPointIndex index(tess.mesh);
+    std::vector<Vec3> points(data->size());
+    for (size_t i = 0; i < data->size(); ++i) points[i] = (*data)[i].p;
+    const std::vector<accel::ClosestHit> hits = index.query_all(points, threads);
+    parallel_for(static_cast<int>(data->size()), threads, [&](int i) {
+        DataPoint& d = (*data)[i];
+        const subdiv::FacePoint local = surface.project(d.p, d.c);
+        // (u, v) of the hit from the triangle's place in its face's n x n grid.
+        const int t = hits[i].triangle, f = tess.triangle_face[t], k = t % (2 * n * n), cell = k / 2;
+        const int gi = cell / n, gj = cell % n;
+        const int corners[2][3][2] = {{{0, 0}, {1, 0}, {1, 1}}, {{0, 0}, {1, 1}, {0, 1}}};
+        double u = 0, v = 0;
+        for (int c = 0; c < 3; ++c) {
+            u += hits[i].barycentric[c] * (gi + corners[k % 2][c][0]) / n;
+            v += hits[i].barycentric[c] * (gj + corners[k % 2][c][1]) / n;
+        }
+        const subdiv::FacePoint global = surface.project(d.p, {f, u, v});
+        auto d2 = [&](const subdiv::FacePoint& c) {
+            const Vec3 r = surface.evaluate(c).position - d.p;
+            return dot(r, r);
+        };
+        d.c = d2(global) < d2(local) ? global : local;
+    });
+}
+
 std::string format(const char* fmt, double a, double b = 0, double c = 0) {
     char buf[256];
     std::snprintf(buf, sizeof buf, fmt, a, b, c);
@@ -345,13 +380,26 @@ LevelReport fit_level(const Context& ctx, const LevelTopology& topo, subdiv::Lim
                                   ? o.smoothness_start * std::pow(o.smoothness_end / o.smoothness_start, t)
                                   : o.smoothness_start + (o.smoothness_end - o.smoothness_start) * t;
 
+        // Tangential weight of the data residuals: point-to-point in the first round (the surface
+        // normals of the start can be meaningless: the limit of a coarse cage folds onto itself),
+        // then halving down to tangential_weight.
+        const double mu = std::max(o.tangential_weight, std::ldexp(1.0, -round));
+        const double near2 = std::pow(kNearDistance * ctx.diagonal, 2);
         // Stencils of the data correspondences and of the surface samples.
         clock = Clock::now();
         std::vector<Combo> data_combo(nd), surf_combo(ns);
-        std::vector<Vec3> surf_pos(ns);
+        std::vector<Vec3> surf_pos(ns), data_normal(nd);
         parallel_for(nd, ctx.threads, [&](int i) {
             const subdiv::LimitStencil s = surface.stencil(state.data[i].c);
             data_combo[i] = topo.compose(s.indices, s.position_weights);
+            if (mu < 1) {
+                // Squared-distance minimisation approximates the distance well only near the
+                // surface (distance small against the curvature radius); far points (a coarse
+                // level's surface, which can fold onto itself) stay point-to-point.
+                const subdiv::LimitPoint e = surface.evaluate(state.data[i].c);
+                const Vec3 r = e.position - state.data[i].p;
+                if (dot(r, r) <= near2) data_normal[i] = e.normal;
+            }
         });
         parallel_for(ns, ctx.threads, [&](int i) {
             const subdiv::LimitStencil s = surface.stencil(s_params[i]);
@@ -381,7 +429,11 @@ LevelReport fit_level(const Context& ctx, const LevelTopology& topo, subdiv::Lim
         std::vector<double> w;
         for (int i = 0; i < nd; ++i) {
             split(data_combo[i], &w);
-            problem.AddResidualBlock(detail::point_to_point_cost(w, state.data[i].p, 1.0), &data_loss, blocks);
+            const Vec3& n = data_normal[i];
+            problem.AddResidualBlock(mu < 1 && dot(n, n) > 0.5
+                                         ? detail::tangent_weighted_cost(w, state.data[i].p, n, mu, 1.0)
+                                         : detail::point_to_point_cost(w, state.data[i].p, 1.0),
+                                     &data_loss, blocks);
         }
         if (o.surface_to_input_weight > 0)
             for (int i = 0; i < ns; ++i) {
@@ -427,7 +479,7 @@ LevelReport fit_level(const Context& ctx, const LevelTopology& topo, subdiv::Lim
         // New correspondences: project every data point onto the new surface from its old foot.
         clock = Clock::now();
         surface.set_points(topo.expand(state.vars));
-        parallel_for(nd, ctx.threads, [&](int i) { state.data[i].c = surface.project(state.data[i].p, state.data[i].c); });
+        update_correspondences(surface, &state.data, ctx.threads);
         const double rms = data_rms(surface, state.data, ctx.threads);
         sec.evaluation += seconds_since(clock);
         ctx.progress("level " + std::to_string(topo.level) + " round " + std::to_string(round + 1) +

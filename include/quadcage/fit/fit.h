@@ -38,9 +38,14 @@ struct FitOptions {
     double smoothness_start = 1e-3;  ///< Weight of the control-net Laplacian term relative to the data
                                      ///< term in the first round, >= 0 ...
     double smoothness_end = 1e-6;    ///< ... decreasing geometrically to this in the last round, >= 0.
-    double surface_to_input_weight = 0.25;  ///< Weight of the surface-to-input (point-to-plane) term
+    double tangential_weight = 0.02;  ///< Final weight (squared) of the tangential part of each data
+                                      ///< residual, in [0, 1]: the part along the surface normal at the
+                                      ///< foot counts fully, so the surface slides along itself
+                                      ///< instead of being dragged to fixed feet (squared-distance
+                                      ///< minimisation). Round r uses max(this, 2^-r): point-to-point first.
+    double surface_to_input_weight = 1.0;  ///< Weight of the surface-to-input (point-to-plane) term
                                             ///< relative to the input-to-surface term, >= 0.
-    double huber_scale = 1e-2;   ///< Huber loss threshold (relative distance), > 0; residuals above it
+    double huber_scale = 1e-1;   ///< Huber loss threshold (relative distance), > 0; residuals above it
                                  ///< count linearly (outliers of scans).
     int area_samples = 20000;    ///< Input points sampled uniformly by area for the data term (besides
                                  ///< the mesh vertices), >= 0.

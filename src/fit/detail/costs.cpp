@@ -1,5 +1,7 @@
 #include "detail/costs.h"
 
+#include <cmath>
+
 #include "quadcage/core/errors.h"
 
 namespace quadcage::fit::detail {
@@ -30,6 +32,19 @@ bool StencilCost::Evaluate(double const* const* parameters, double* residuals, d
 ceres::CostFunction* point_to_point_cost(std::vector<double> weights, const Vec3& p, double scale) {
     const std::array<double, 9> a = {scale, 0, 0, 0, scale, 0, 0, 0, scale};
     return new StencilCost(std::move(weights), 3, a, {scale * p.x, scale * p.y, scale * p.z});
+}
+
+ceres::CostFunction* tangent_weighted_cost(std::vector<double> weights, const Vec3& p, const Vec3& n, double mu,
+                                           double scale) {
+    QC_CHECK(mu >= 0, "tangent_weighted_cost: mu must be >= 0");
+    const double t = std::sqrt(mu);
+    const double nv[3] = {n.x, n.y, n.z};
+    std::array<double, 9> a{};
+    for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c) a[3 * r + c] = scale * ((1 - t) * nv[r] * nv[c] + (r == c ? t : 0.0));
+    std::array<double, 3> b{};
+    for (int r = 0; r < 3; ++r) b[r] = a[3 * r] * p.x + a[3 * r + 1] * p.y + a[3 * r + 2] * p.z;
+    return new StencilCost(std::move(weights), 3, a, b);
 }
 
 ceres::CostFunction* point_to_plane_cost(std::vector<double> weights, const Vec3& q, const Vec3& n, double scale) {

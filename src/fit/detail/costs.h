@@ -31,6 +31,13 @@ private:
 /// scale * (S - p): point-to-point distance of the limit point S = sum w_i x_i to a data point p.
 ceres::CostFunction* point_to_point_cost(std::vector<double> weights, const Vec3& p, double scale);
 
+/// scale * A (S - p) with A = n n^T + sqrt(mu) (I - n n^T): the distance of S to p along the unit
+/// normal n counted fully, its tangential part with weight mu (squared). With mu = 1 this is
+/// point_to_point_cost; small mu lets the surface slide along itself, as in squared-distance
+/// minimisation (Pottmann et al.), which converges much faster than point-to-point fitting.
+ceres::CostFunction* tangent_weighted_cost(std::vector<double> weights, const Vec3& p, const Vec3& n, double mu,
+                                           double scale);
+
 /// scale * n . (S - q): signed distance of S to the plane through q with unit normal n.
 ceres::CostFunction* point_to_plane_cost(std::vector<double> weights, const Vec3& q, const Vec3& n, double scale);
 
