@@ -95,11 +95,11 @@ TEST_P(QuadLayoutGenerated, MinimalLayoutPassesTheVerifier) {
     expect_valid_layout(build_quad_layout(input), input, g);
 }
 
-// Genus 0..16 but 9 and 13: their layouts are built but a patch map squeezes triangles below
-// rounding (flipped in double precision, also after the retries; an open problem, see the README).
-// Genus 17..20 are not in the suite (minutes each on this 2-core machine).
+// Genus 0..16 (9 and 13 pass since the layout edges are relaxed: before, two edges left a corner
+// together and a patch map squeezed triangles below rounding). Genus 17..20 are not in the suite
+// (minutes each on this 2-core machine; see the README's benchmark).
 INSTANTIATE_TEST_SUITE_P(QuadLayoutGenus0To16, QuadLayoutGenerated,
-                         ::testing::Values(0, 1, 2, 3, 4, 5, 6, 7, 8, 10, 11, 12, 14, 15, 16),
+                         ::testing::Range(0, 17),
                          [](const ::testing::TestParamInfo<int>& info) {
                              return "genus" + std::to_string(info.param);
                          });
