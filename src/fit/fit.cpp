@@ -476,7 +476,8 @@ LevelReport fit_level(const Context& ctx, const LevelTopology& topo, subdiv::Lim
         }
         for (int v = 0; v < topo.num_vars; ++v) state.vars[v] = {x[3 * v], x[3 * v + 1], x[3 * v + 2]};
 
-        // New correspondences: project every data point onto the new surface from its old foot.
+        // New correspondences on the new surface: the better of the local projection from the old
+        // foot and a projection from the closest point of a tessellation (update_correspondences).
         clock = Clock::now();
         surface.set_points(topo.expand(state.vars));
         update_correspondences(surface, &state.data, ctx.threads);

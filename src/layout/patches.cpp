@@ -242,6 +242,8 @@ void parameterize_patches(QuadLayout* layout) {
     std::vector<int> local(n, -1);  // index among the patch's unknowns, or -2 on its boundary
     std::vector<UV> boundary_uv(n);
     std::vector<int> loop, side;
+    // Per-vertex stretch sums of the patch being mapped (zero between patches).
+    std::vector<double> sigma_sum(n, 0), area_sum(n, 0);
     for (int q = 0; q < nq; ++q) {
         quad_boundary(*layout, q, &loop, &side);
         const std::vector<UV> on_sides = boundary_positions(mesh, loop, side);
@@ -327,18 +329,21 @@ void parameterize_patches(QuadLayout* layout) {
                 A.setFromTriplets(entries.begin(), entries.end());
                 if (!analysed) solver.analyzePattern(A), analysed = true;
                 solver.factorize(A);
-                QC_CHECK(solver.info() == Eigen::Success,
-                         "parameterize_patches: factorisation failed on patch " + std::to_string(q));
+                if (solver.info() != Eigen::Success) return false;
                 const Eigen::MatrixX2d x = solver.solve(rhs);
                 for (int i = 0; i < m; ++i) uv_of[i] = {x(i, 0), x(i, 1)};
+                return true;
+            };
+            auto must_solve = [&](const std::vector<double>& w) {
+                QC_CHECK(solve(w), "parameterize_patches: factorisation failed on patch " + std::to_string(q));
             };
             std::vector<double> w = base;
-            solve(w);
+            must_solve(w);
             if (folds()) {
                 // In long thin patches the cotangent map squeezes some triangles below rounding;
                 // Tutte's uniform weights squeeze less.
                 w.assign(edges.size(), 1.0);
-                solve(w);
+                must_solve(w);
             }
             // Stretch minimisation (Yoshizawa, Belyaev & Seidel 2004): a harmonic map squeezes the
             // far end of a bulging patch (a head bounded by a loop round the neck) exponentially,
@@ -350,7 +355,6 @@ void parameterize_patches(QuadLayout* layout) {
                 std::vector<double> area3(tris.size());
                 double total3 = 0;
                 for (size_t k = 0; k < tris.size(); ++k) total3 += area3[k] = triangle_area(mesh, tris[k]);
-                std::vector<double> sigma_sum(n, 0), area_sum(n, 0);
                 // Patch L2 stretch of the current map (uv scaled to the patch's 3D area) and the
                 // per-vertex stretch in sigma_sum; infinite if a triangle is degenerate in uv.
                 auto stretch = [&]() {
@@ -376,18 +380,22 @@ void parameterize_patches(QuadLayout* layout) {
                 for (int it = 0; it < kStretchIterations && std::isfinite(best); ++it) {
                     for (size_t k = 0; k < edges.size(); ++k) {
                         const auto [i, j] = edges[k];
-                        const double si = std::sqrt(sigma_sum[i] / area_sum[i]), sj = std::sqrt(sigma_sum[j] / area_sum[j]);
-                        w[k] /= std::sqrt(si * sj);
+                        auto sigma = [&](int v) {
+                            return area_sum[v] > 0 && sigma_sum[v] > 0 ? std::sqrt(sigma_sum[v] / area_sum[v]) : 1.0;
+                        };
+                        w[k] /= std::sqrt(sigma(i) * sigma(j));
                     }
-                    solve(w);
                     for (int t : tris)
                         for (int v : mesh.triangles[t]) sigma_sum[v] = area_sum[v] = 0;
+                    if (!solve(w)) break;
                     const double e = folds() ? std::numeric_limits<double>::infinity() : stretch();
                     if (!(e < 0.99 * best)) break;
                     best = e;
                     best_uv = uv_of;
                 }
                 uv_of = best_uv;
+                for (int t : tris)
+                    for (int v : mesh.triangles[t]) sigma_sum[v] = area_sum[v] = 0;
             }
         }
         for (int t : patch_triangles[q])

@@ -843,33 +843,45 @@ QuadLayout build_quad_layout(const Mesh& input, const QuadLayoutOptions& options
             if (options.relax_sweeps > 0) {
                 // Relax: every layout edge to the middle of its two patches. The relaxed edges
                 // become new curves (the S-cycles and the orthogonal system keep the routes
-                // Algorithm 1 gave them); chords they make are split as before.
+                // Algorithm 1 gave them); chords they make are split as before. Should the relaxed
+                // network fail any check below, the unrelaxed one is kept.
                 say("relaxing the layout edges");
                 detail::RelaxOptions ro;
                 ro.sweeps = options.relax_sweeps;
-                Builder relaxed = b;
-                std::vector<std::vector<int>> moved = paths;
-                detail::relax_layout_edges(relaxed.s_, &moved, ro);
-                Network rn;
-                rn.corners = net.corners;
-                for (auto& o : relaxed.obstacle_) o = 0;
-                size_t k = 0;
-                for (const auto& [id, cs] : net.closed) {
-                    Cycle c = moved[k];
-                    c.insert(c.end(), moved[k + 1].begin() + 1, moved[k + 1].end() - 1);
-                    k += 2;
-                    rn.closed.push_back({relaxed.add_curve(c, true, true), cs});
-                }
-                for (size_t a = 0; a < net.arcs.size(); ++a) rn.arcs.push_back(relaxed.add_curve(moved[k++], false, true));
-                relaxed.split_chords();
-                std::vector<std::vector<int>> relaxed_paths = edge_paths_of(relaxed, rn);
-                QuadLayout trial = out;
-                trial.mesh = relaxed.s_.mesh();
-                if (detail::extract_cage(relaxed.s_, rn.corners, relaxed_paths, &trial).empty()) {
-                    b = std::move(relaxed);
-                    paths = std::move(relaxed_paths);
-                } else {
-                    say("the relaxed layout edges do not form a quad layout; keeping them unrelaxed");
+                try {
+                    Builder relaxed = b;
+                    std::vector<std::vector<int>> moved = paths;
+                    if (detail::relax_layout_edges(relaxed.s_, &moved, ro) > 0) {
+                        Network rn;
+                        rn.corners = net.corners;
+                        for (auto& o : relaxed.obstacle_) o = 0;
+                        size_t k = 0;
+                        for (const auto& [id, cs] : net.closed) {
+                            Cycle c = moved[k];
+                            c.insert(c.end(), moved[k + 1].begin() + 1, moved[k + 1].end() - 1);
+                            k += 2;
+                            rn.closed.push_back({relaxed.add_curve(c, true, true), cs});
+                        }
+                        for (size_t a = 0; a < net.arcs.size(); ++a)
+                            rn.arcs.push_back(relaxed.add_curve(moved[k++], false, true));
+                        relaxed.split_chords();
+                        std::vector<std::vector<int>> relaxed_paths = edge_paths_of(relaxed, rn);
+                        QuadLayout trial = out;
+                        trial.mesh = relaxed.s_.mesh();
+                        std::string problem = detail::extract_cage(relaxed.s_, rn.corners, relaxed_paths, &trial);
+                        if (problem.empty()) {
+                            detail::parameterize_patches(&trial);
+                            problem = verify_quad_layout(trial);
+                        }
+                        if (problem.empty()) {
+                            b = std::move(relaxed);
+                            paths = std::move(relaxed_paths);
+                        } else {
+                            say("the relaxed layout edges fail a check (" + problem + "); keeping them unrelaxed");
+                        }
+                    }
+                } catch (const InternalError& e) {
+                    say(std::string("relaxing the layout edges failed (") + e.what() + "); keeping them unrelaxed");
                 }
             }
 

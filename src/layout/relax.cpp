@@ -46,13 +46,22 @@ int relax_layout_edges(const Surface& s, std::vector<std::vector<int>>* paths, c
             const int h0 = s.find_half_edge(path[0], path[1]);
             const int la = label[h0 / 3], lb = label[s.twin(h0) / 3];
             if (la == lb) continue;
+
             // The region: triangles of both patches. Its boundary: vertices on other paths.
             std::vector<int> tris;
             for (int t = 0; t < nt; ++t)
                 if (label[t] == la || label[t] == lb) tris.push_back(t), in_region[t] = 1;
             for (int v : path) --on_paths[v];
             std::vector<int> interior, boundary;
-            bool disk = true;
+            // The two patches must meet along this edge only (else their union is no disk: the
+            // level-0 cage has multi-edges, e.g. every pair of neighbours on a torus).
+            int shared = 0;
+            for (int t : tris)
+                for (int k = 0; k < 3; ++k) {
+                    const int he = 3 * t + k;
+                    if (cut[he] && label[t] == la && label[s.twin(he) / 3] == lb) ++shared;
+                }
+            bool disk = shared == static_cast<int>(path.size()) - 1;
             for (int t : tris)
                 for (int v : mesh.triangles[t]) {
                     if (local[v] != -1) continue;

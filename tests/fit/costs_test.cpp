@@ -62,6 +62,36 @@ TEST(FitCosts, PointToPlaneGradient) {
     }
 }
 
+TEST(FitCosts, TangentWeightedGradient) {
+    for (int blocks : {1, 6, 16}) {
+        const Probe p = random_probe(blocks, 40 + blocks, false);
+        const Vec3 n = Vec3{2, -1, 2} / 3.0;
+        std::unique_ptr<ceres::CostFunction> cost(tangent_weighted_cost(p.weights, {0.4, -0.1, 0.2}, n, 0.05, 1.5));
+        std::string log;
+        EXPECT_TRUE(gradient_ok(*cost, p, &log)) << log;
+    }
+}
+
+TEST(FitCosts, TangentWeightedSplitsNormalAndTangentialParts) {
+    // S = 0.25 a + 0.75 b = (3, 0, 0); p = (3, 1, 2); n = z: normal part -2, tangential part (0, -1, 0).
+    const std::array<double, 3> a{0, 0, 0}, b{4, 0, 0};
+    const double* params[] = {a.data(), b.data()};
+    double r[3], q[3];
+    for (const double mu : {0.0, 0.04, 1.0}) {
+        std::unique_ptr<ceres::CostFunction> c(tangent_weighted_cost({0.25, 0.75}, {3, 1, 2}, {0, 0, 1}, mu, 2.0));
+        ASSERT_TRUE(c->Evaluate(params, r, nullptr));
+        EXPECT_NEAR(r[2], 2.0 * -2.0, 1e-12) << "mu " << mu;                 // normal part in full
+        EXPECT_NEAR(r[1], 2.0 * std::sqrt(mu) * -1.0, 1e-12) << "mu " << mu;  // tangential part scaled
+        EXPECT_NEAR(r[0], 0.0, 1e-12);
+    }
+    // mu = 1 is point-to-point.
+    std::unique_ptr<ceres::CostFunction> t(tangent_weighted_cost({0.25, 0.75}, {3, 1, 2}, {0, 0, 1}, 1.0, 2.0));
+    std::unique_ptr<ceres::CostFunction> p2p(point_to_point_cost({0.25, 0.75}, {3, 1, 2}, 2.0));
+    ASSERT_TRUE(t->Evaluate(params, r, nullptr));
+    ASSERT_TRUE(p2p->Evaluate(params, q, nullptr));
+    for (int d = 0; d < 3; ++d) EXPECT_NEAR(r[d], q[d], 1e-12);
+}
+
 TEST(FitCosts, SmoothnessGradient) {
     for (int blocks : {2, 6}) {
         const Probe p = random_probe(blocks, 30 + blocks, true);

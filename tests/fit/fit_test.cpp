@@ -150,7 +150,8 @@ TEST(FitSurface, ToleranceModeReportsAnUnreachableTolerance) {
         EXPECT_EQ(report["rejected_level"]["level"], r.rejected_level->level);
     } else {
         EXPECT_EQ(r.levels.back().level, o.max_level);
-        EXPECT_NE(r.message.find("not met by max_level 4"), std::string::npos) << r.message;
+        EXPECT_NE(r.message.find("not met by max_level " + std::to_string(o.max_level)), std::string::npos)
+            << r.message;
     }
 }
 
@@ -217,6 +218,11 @@ TEST(FitSurface, RejectsBadInput) {
     o = FitOptions{};
     o.huber_scale = -1;
     EXPECT_NE(o.validate(), "");
+    for (const double mu : {-0.1, 1.5}) {
+        o = FitOptions{};
+        o.tangential_weight = mu;
+        EXPECT_NE(o.validate(), "") << mu;
+    }
     layout::QuadLayout broken = layout;
     broken.triangle_patch.pop_back();
     EXPECT_THROW(fit_surface(broken, FitOptions{}), InvalidInput);

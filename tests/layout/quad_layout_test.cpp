@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "quadcage/core/errors.h"
 #include "quadcage/core/io.h"
 #include "quadcage/core/openmesh_bridge.h"
 #include "quadcage/core/shapes.h"
@@ -220,6 +221,10 @@ TEST(QuadLayoutRelax, MovesEdgesAndKeepsTheCage) {
         // icosphere's cube, already balanced (1.22), the ratio may move by a fraction of a percent.
         EXPECT_LE(b.quality.patch_area_max_over_min, 1.01 * a.quality.patch_area_max_over_min);
     }
+    layout::QuadLayoutOptions bad;
+    bad.relax_sweeps = -1;
+    EXPECT_NE(bad.validate(), "");
+    EXPECT_THROW(build_quad_layout(plate(2), bad), InvalidInput);
 }
 
 // ---------------------------------------------------------------------------------------------

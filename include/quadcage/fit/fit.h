@@ -42,11 +42,12 @@ struct FitOptions {
                                       ///< residual, in [0, 1]: the part along the surface normal at the
                                       ///< foot counts fully, so the surface slides along itself
                                       ///< instead of being dragged to fixed feet (squared-distance
-                                      ///< minimisation). Round r uses max(this, 2^-r): point-to-point first.
+                                      ///< minimisation). Round r of every level uses max(this, 2^-r):
+                                      ///< point-to-point first.
     double surface_to_input_weight = 1.0;  ///< Weight of the surface-to-input (point-to-plane) term
                                             ///< relative to the input-to-surface term, >= 0.
     double huber_scale = 1e-1;   ///< Huber loss threshold (relative distance), > 0; residuals above it
-                                 ///< count linearly (outliers of scans).
+                                 ///< count linearly: only gross outliers are down-weighted.
     int area_samples = 20000;    ///< Input points sampled uniformly by area for the data term (besides
                                  ///< the mesh vertices), >= 0.
     int max_data_points = 400000;  ///< Cap on data points (vertices + samples); vertices are subsampled

@@ -53,8 +53,11 @@ struct QuadLayout {
     std::vector<std::array<UV, 3>> corner_uv;
     /// Mesh-vertex paths of the layout edges, from edge.corners[0] to edge.corners[1].
     std::vector<std::vector<int>> edge_paths;
-    std::vector<Cycle> orthogonal_system;  ///< The 2g cycles the layout was built from (empty for g = 0).
-    std::vector<Cycle> s_cycles;           ///< The 4g-4 cycles S_i of Algorithm 1 (empty for g <= 1).
+    /// The 2g cycles the layout was built from (empty for g = 0) and the 4g-4 cycles S_i of
+    /// Algorithm 1 (empty for g <= 1), as they were routed: the layout edges are relaxed after that
+    /// (same corners and patches), so they need not run along these cycles any more.
+    std::vector<Cycle> orthogonal_system;
+    std::vector<Cycle> s_cycles;
     LayoutQuality quality;
     /// Wall-clock seconds by stage.
     struct Seconds {
