@@ -307,6 +307,23 @@ double data_rms(const subdiv::LimitSurface& surface, const std::vector<DataPoint
     return data.empty() ? 0.0 : std::sqrt(sum / data.size());
 }
 
+/// The limit point a stencil describes, with the surface's current control points (the same as
+/// LimitSurface::evaluate() at the stencil's point, without evaluating the patch again).
+subdiv::LimitPoint limit_point(const subdiv::LimitSurface& surface, const subdiv::LimitStencil& s) {
+    const std::vector<Vec3>& points = surface.control_mesh().points;
+    subdiv::LimitPoint out;
+    for (size_t k = 0; k < s.indices.size(); ++k) {
+        const Vec3& x = points[s.indices[k]];
+        out.position += x * s.position_weights[k];
+        out.du += x * s.du_weights[k];
+        out.dv += x * s.dv_weights[k];
+    }
+    const Vec3 n = cross(out.du, out.dv);
+    const double len = norm(n);
+    if (len > 0) out.normal = n / len;
+    return out;
+}
+
 /// New feet of the data points on the (moved) surface: the better of a local projection from the
 /// old foot and one from the closest point of a tessellation of the whole surface. The local walk
 /// alone stays in the basin of its old foot: where a distorted patch map put a foot on the wrong
@@ -396,7 +413,7 @@ LevelReport fit_level(const Context& ctx, const LevelTopology& topo, subdiv::Lim
                 // Squared-distance minimisation approximates the distance well only near the
                 // surface (distance small against the curvature radius); far points (a coarse
                 // level's surface, which can fold onto itself) stay point-to-point.
-                const subdiv::LimitPoint e = surface.evaluate(state.data[i].c);
+                const subdiv::LimitPoint e = limit_point(surface, s);
                 const Vec3 r = e.position - state.data[i].p;
                 if (dot(r, r) <= near2) data_normal[i] = e.normal;
             }
@@ -404,7 +421,7 @@ LevelReport fit_level(const Context& ctx, const LevelTopology& topo, subdiv::Lim
         parallel_for(ns, ctx.threads, [&](int i) {
             const subdiv::LimitStencil s = surface.stencil(s_params[i]);
             surf_combo[i] = topo.compose(s.indices, s.position_weights);
-            surf_pos[i] = surface.evaluate(s_params[i]).position;
+            surf_pos[i] = limit_point(surface, s).position;
         });
         sec.evaluation += seconds_since(clock);
 

@@ -75,14 +75,23 @@ std::vector<UV> boundary_positions(const Mesh& mesh, const std::vector<int>& loo
     return uv;
 }
 
+void mark_path(const Surface& s, const std::vector<int>& path, std::vector<char>* cut, char value) {
+    for (size_t i = 0; i + 1 < path.size(); ++i) {
+        const int h = s.find_half_edge(path[i], path[i + 1]);
+        QC_CHECK(h >= 0, "mark_path: a path leaves the mesh edges");
+        (*cut)[h] = (*cut)[s.twin(h)] = value;
+    }
+}
+
+double half_cotangent(const Mesh& mesh, int i, int j, int o) {
+    const Vec3 a = mesh.points[i] - mesh.points[o], b = mesh.points[j] - mesh.points[o];
+    const double c = norm(cross(a, b));
+    return 0.5 * (c > 0 ? std::clamp(dot(a, b) / c, -1e3, 1e3) : 1e3);
+}
+
 std::vector<char> cut_half_edges(const Surface& s, const std::vector<std::vector<int>>& paths) {
     std::vector<char> cut(s.num_half_edges(), 0);
-    for (const auto& p : paths)
-        for (size_t i = 0; i + 1 < p.size(); ++i) {
-            const int h = s.find_half_edge(p[i], p[i + 1]);
-            QC_CHECK(h >= 0, "cut_half_edges: a path leaves the mesh edges");
-            cut[h] = cut[s.twin(h)] = 1;
-        }
+    for (const auto& p : paths) mark_path(s, p, &cut, 1);
     return cut;
 }
 
@@ -277,29 +286,21 @@ void parameterize_patches(QuadLayout* layout) {
             for (int t : patch_triangles[q]) {
                 const Triangle& tri = mesh.triangles[t];
                 for (int k = 0; k < 3; ++k) {
-                    const int i = tri[k], j = tri[(k + 1) % 3], o = tri[(k + 2) % 3];
-                    const Vec3 a = mesh.points[i] - mesh.points[o], b = mesh.points[j] - mesh.points[o];
-                    const double c = norm(cross(a, b));
-                    cot[edge_key(i, j)] += 0.5 * (c > 0 ? std::clamp(dot(a, b) / c, -1e3, 1e3) : 1e3);
+                    const int i = tri[k], j = tri[(k + 1) % 3];
+                    cot[edge_key(i, j)] += half_cotangent(mesh, i, j, tri[(k + 2) % 3]);
                 }
             }
+            // In key order (the hash map's order is not deterministic).
+            const std::vector<std::pair<std::uint64_t, double>> sorted = [&] {
+                std::vector<std::pair<std::uint64_t, double>> v(cot.begin(), cot.end());
+                std::sort(v.begin(), v.end());
+                return v;
+            }();
             std::vector<std::pair<int, int>> edges;
             std::vector<double> base;
-            edges.reserve(cot.size());
-            for (const auto& [key, w] : cot) {
+            for (const auto& [key, w] : sorted) {
                 edges.push_back({static_cast<int>(key >> 32), static_cast<int>(key & 0xffffffffu)});
                 base.push_back(std::max(w, 0.05));
-            }
-            // Deterministic order (the hash map's is not).
-            std::vector<size_t> order(edges.size());
-            for (size_t k = 0; k < order.size(); ++k) order[k] = k;
-            std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return edges[a] < edges[b]; });
-            {
-                std::vector<std::pair<int, int>> e2;
-                std::vector<double> b2;
-                for (size_t k : order) e2.push_back(edges[k]), b2.push_back(base[k]);
-                edges.swap(e2);
-                base.swap(b2);
             }
             Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver;
             bool analysed = false;

@@ -839,7 +839,24 @@ QuadLayout build_quad_layout(const Mesh& input, const QuadLayoutOptions& options
                 for (int id : nn.arcs) paths.push_back(bb.curves_[id]);
                 return paths;
             };
+            // The cage, patches and maps of a network, verified; "" or what fails. Times the maps
+            // and the check of the last call.
+            double mapped_seconds = 0, checked_seconds = 0;
+            auto finish = [&](const Builder& bb, const std::vector<std::vector<int>>& ps, QuadLayout* L) {
+                L->mesh = bb.s_.mesh();
+                const double t0 = clock();
+                const std::string problem = detail::extract_cage(bb.s_, net.corners, ps, L);
+                if (!problem.empty()) return "the layout curves do not form a quad layout: " + problem;
+                detail::parameterize_patches(L);
+                const double t1 = clock();
+                say("verifying");
+                const std::string check = verify_quad_layout(*L);
+                mapped_seconds = t1 - t0;
+                checked_seconds = clock() - t1;
+                return check.empty() ? std::string() : "the quad layout fails its own check: " + check;
+            };
             std::vector<std::vector<int>> paths = edge_paths_of(b, net);
+            bool finished = false;  // out holds the relaxed layout, built and verified
             if (options.relax_sweeps > 0) {
                 // Relax: every layout edge to the middle of its two patches. The relaxed edges
                 // become new curves (the S-cycles and the orthogonal system keep the routes
@@ -865,17 +882,12 @@ QuadLayout build_quad_layout(const Mesh& input, const QuadLayoutOptions& options
                         for (size_t a = 0; a < net.arcs.size(); ++a)
                             rn.arcs.push_back(relaxed.add_curve(moved[k++], false, true));
                         relaxed.split_chords();
-                        std::vector<std::vector<int>> relaxed_paths = edge_paths_of(relaxed, rn);
                         QuadLayout trial = out;
-                        trial.mesh = relaxed.s_.mesh();
-                        std::string problem = detail::extract_cage(relaxed.s_, rn.corners, relaxed_paths, &trial);
-                        if (problem.empty()) {
-                            detail::parameterize_patches(&trial);
-                            problem = verify_quad_layout(trial);
-                        }
+                        const std::string problem = finish(relaxed, edge_paths_of(relaxed, rn), &trial);
                         if (problem.empty()) {
                             b = std::move(relaxed);
-                            paths = std::move(relaxed_paths);
+                            out = std::move(trial);
+                            finished = true;
                         } else {
                             say("the relaxed layout edges fail a check (" + problem + "); keeping them unrelaxed");
                         }
@@ -885,20 +897,15 @@ QuadLayout build_quad_layout(const Mesh& input, const QuadLayoutOptions& options
                 }
             }
 
-            out.mesh = b.s_.mesh();
+            if (!finished)
+                if (const std::string problem = finish(b, paths, &out); !problem.empty()) throw InternalError(problem);
             for (int i = 0; i < 2 * g; ++i) out.orthogonal_system.push_back(b.curves_[i]);
             for (int id : net.s_cycles) out.s_cycles.push_back(b.curves_[id]);
-            const double t_curves = clock();
-            const std::string problem = detail::extract_cage(b.s_, net.corners, paths, &out);
-            if (!problem.empty())
-                throw InternalError("the layout curves do not form a quad layout: " + problem);
-            detail::parameterize_patches(&out);
-            const double t_param = clock();
-            say("verifying");
-            const std::string check = verify_quad_layout(out);
-            if (!check.empty()) throw InternalError("the quad layout fails its own check: " + check);
+            const double t_quality = clock();
             detail::measure_quality(&out);
-            out.seconds = {t_cycles, t_curves - t_cycles, t_param - t_curves, clock() - t_param};
+            const double t_end = clock();
+            const double checked = checked_seconds + (t_end - t_quality);
+            out.seconds = {t_cycles, t_end - t_cycles - mapped_seconds - checked, mapped_seconds, checked};
             return out;
         } catch (const InternalError& e) {
             failure = e.what();

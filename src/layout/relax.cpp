@@ -10,19 +10,6 @@
 
 namespace quadcage::layout::detail {
 
-namespace {
-
-/// Half-edges of a path's mesh edges, both directions.
-void mark_path(const Surface& s, const std::vector<int>& p, std::vector<char>* cut, char value) {
-    for (size_t i = 0; i + 1 < p.size(); ++i) {
-        const int h = s.find_half_edge(p[i], p[i + 1]);
-        QC_CHECK(h >= 0, "relax_layout_edges: a path leaves the mesh edges");
-        (*cut)[h] = (*cut)[s.twin(h)] = value;
-    }
-}
-
-}  // namespace
-
 int relax_layout_edges(const Surface& s, std::vector<std::vector<int>>* paths, const RelaxOptions& options) {
     const Mesh& mesh = s.mesh();
     const int n = s.num_vertices(), nt = mesh.num_triangles();
@@ -91,10 +78,8 @@ int relax_layout_edges(const Surface& s, std::vector<std::vector<int>>* paths, c
                 for (int t : tris) {
                     const Triangle& tri = mesh.triangles[t];
                     for (int k = 0; k < 3; ++k) {
-                        const int i = tri[k], j = tri[(k + 1) % 3], o = tri[(k + 2) % 3];
-                        const Vec3 a = mesh.points[i] - mesh.points[o], b = mesh.points[j] - mesh.points[o];
-                        const double c = norm(cross(a, b));
-                        const double w = std::max(0.5 * (c > 0 ? std::clamp(dot(a, b) / c, -1e3, 1e3) : 1e3), 0.025);
+                        const int i = tri[k], j = tri[(k + 1) % 3];
+                        const double w = std::max(half_cotangent(mesh, i, j, tri[(k + 2) % 3]), 0.025);
                         const int li = local[i], lj = local[j];
                         if (li >= 0) diagonal[li] += w;
                         if (lj >= 0) diagonal[lj] += w;

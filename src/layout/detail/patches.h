@@ -11,6 +11,13 @@
 
 namespace quadcage::layout::detail {
 
+/// Sets both half-edges of every mesh edge that `path` walks to `value` in `cut`.
+void mark_path(const Surface& s, const std::vector<int>& path, std::vector<char>* cut, char value);
+
+/// Half the cotangent of the angle at o of triangle (i, j, o): the weight that triangle gives edge
+/// i-j in the cotangent Laplacian, clamped to [-500, 500] (500 for a degenerate triangle).
+double half_cotangent(const Mesh& mesh, int i, int j, int o);
+
 /// Marks both half-edges of every edge walked by the given vertex paths (open paths).
 std::vector<char> cut_half_edges(const Surface& s, const std::vector<std::vector<int>>& paths);
 
