@@ -31,6 +31,11 @@ constexpr int kRoomAttempts = 24;
 
 using Say = std::function<void(const std::string&)>;
 
+// " (N triangles)": how far the surface has been refined, for progress messages.
+std::string surface_size(const Builder& b) {
+    return " (" + std::to_string(b.s_.mesh().triangles.size()) + " triangles)";
+}
+
 // The layout curves, as indices into a Builder's curves (which follow every split), plus the
 // corners they carry.
 struct Network {
@@ -265,7 +270,7 @@ std::vector<int> place_s_cycles(Builder& b, int g, const Say& say) {
     }
     std::vector<int> ids;
     for (size_t k = 0; k < spots.size(); ++k) {
-        say("S-cycle " + std::to_string(k + 1) + " of " + std::to_string(spots.size()));
+        say("S-cycle " + std::to_string(k + 1) + " of " + std::to_string(spots.size()) + surface_size(b));
         std::vector<int> path;
         std::vector<char> reached;
         for (int attempt = 0; attempt <= kRoomAttempts && path.empty(); ++attempt) {
@@ -457,7 +462,7 @@ Network network_of_handles_and_tshirts(Builder& b, int g, const Say& say) {
     int shirt = 0;
     for (const auto& holes : pieces.holes) {
         if (holes.size() != 4) continue;
-        say("T-shirt " + std::to_string(++shirt) + " of " + std::to_string(g - 1));
+        say("T-shirt " + std::to_string(++shirt) + " of " + std::to_string(g - 1) + surface_size(b));
         for (const auto& [hole, cs] : route_tshirt(b, net.s_cycles, holes, &net.arcs)) {
             corners_on[hole.curve] = cs;
             net.corners.push_back(cs[0]);
@@ -467,7 +472,7 @@ Network network_of_handles_and_tshirts(Builder& b, int g, const Say& say) {
     int handle = 0;
     for (const auto& holes : pieces.holes) {
         if (holes.size() != 2) continue;
-        say("handle " + std::to_string(++handle) + " of " + std::to_string(2 * g - 2));
+        say("handle " + std::to_string(++handle) + " of " + std::to_string(2 * g - 2) + surface_size(b));
         route_handle(b, net.s_cycles, holes[0], corners_on[holes[0].curve], holes[1],
                      corners_on[holes[1].curve], &net.arcs);
     }

@@ -3,12 +3,19 @@
 # every shared mesh, and on botijo split 1-to-4 twice (1.3M triangles). Every layout is checked by
 # ../shared/tools/check_layout.py (--patches, --cage, --input). Targets on the 2-core machine:
 # botijo <= 10 s; botijo at 1.3M triangles <= 120 s and <= 4 GiB.
-#   tools/bench/layout.sh [BUILD_DIR] [--no-large]
+# With --plates FROM TO: instead, the generated plates (`quadcage generate plate -g G`) of genus
+# FROM..TO, each with an hour's timeout (the issue's "generated solids of genus 0..20").
+#   tools/bench/layout.sh [BUILD_DIR] [--no-large | --plates FROM TO]
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 build=${1:-build}
 large=1
+plates=()
 [ "${2:-}" = "--no-large" ] && large=0
+if [ "${2:-}" = "--plates" ]; then
+  large=0
+  plates=($(seq "${3:?--plates FROM TO}" "${4:?--plates FROM TO}"))
+fi
 qc="$build/quadcage"
 [ -x "$qc" ] || { echo "build first: $qc not found" >&2; exit 2; }
 meshes=../shared/data/meshes
@@ -16,6 +23,7 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 
 list=(bunny.obj igea.ply kitten.off torus.obj eight.off skull.obj 3holes.off fertility.off botijo.off input_wheel.off boot.obj)
+[ ${#plates[@]} -gt 0 ] && list=()
 if [ $large = 1 ]; then
   "$qc" subdivide "$meshes/botijo.off" -t 2 -o "$work/botijo_x16.ply" >/dev/null
 fi
@@ -27,7 +35,7 @@ run() {
   local out="$work/out_$name"
   local start end
   start=$(date +%s.%N)
-  if ! "$qc" layout "$m" -o "$out" -q >"$work/$name.log" 2>&1; then
+  if ! timeout 3600 "$qc" layout "$m" -o "$out" -q >"$work/$name.log" 2>&1; then
     printf '| %s | | | | | | | | | | | | FAILED: %s |\n' "$name" "$(tail -1 "$work/$name.log")"
     return
   fi
@@ -56,4 +64,8 @@ PY
 }
 for m in "${list[@]}"; do run "$meshes/$m" "$m"; done
 [ $large = 1 ] && run "$work/botijo_x16.ply" "botijo split twice"
+for g in "${plates[@]}"; do
+  "$qc" generate plate -g "$g" -o "$work/plate_$g.obj" >/dev/null
+  run "$work/plate_$g.obj" "plate genus $g"
+done
 exit 0
