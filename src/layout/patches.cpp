@@ -104,19 +104,11 @@ int face_components(const Surface& s, const std::vector<char>& cut, std::vector<
         if ((*label)[f0] >= 0) continue;
         (*label)[f0] = count;
         stack.push_back(f0);
-        while (!stack.empty()) {
-            const int f = stack.back();
-            stack.pop_back();
-            for (int k = 0; k < 3; ++k) {
-                const int h = 3 * f + k;
-                if (cut[h]) continue;
-                const int o = s.twin(h) / 3;
-                if ((*label)[o] < 0) {
-                    (*label)[o] = count;
-                    stack.push_back(o);
-                }
-            }
-        }
+        flood_triangles(s, cut, stack, [&](int o) {
+            if ((*label)[o] >= 0) return false;
+            (*label)[o] = count;
+            return true;
+        });
         ++count;
     }
     return count;

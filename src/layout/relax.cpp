@@ -4,6 +4,7 @@
 #include <Eigen/SparseCore>
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 
 #include "detail/patches.h"
 #include "quadcage/core/errors.h"
@@ -15,7 +16,9 @@ int relax_layout_edges(const Surface& s, std::vector<std::vector<int>>* paths, c
     const int n = s.num_vertices(), nt = mesh.num_triangles();
     std::vector<char> cut = cut_half_edges(s, *paths);
     std::vector<int> label;
-    face_components(s, cut, &label);
+    // Each patch's triangles, in ascending order (kept up to date as edges move).
+    std::vector<std::vector<int>> patch_tris(face_components(s, cut, &label));
+    for (int t = 0; t < nt; ++t) patch_tris[label[t]].push_back(t);
     // Per vertex: how many paths run through it (corners: their degree).
     std::vector<int> on_paths(n, 0);
     for (const auto& p : *paths)
@@ -36,8 +39,9 @@ int relax_layout_edges(const Surface& s, std::vector<std::vector<int>>* paths, c
 
             // The region: triangles of both patches. Its boundary: vertices on other paths.
             std::vector<int> tris;
-            for (int t = 0; t < nt; ++t)
-                if (label[t] == la || label[t] == lb) tris.push_back(t), in_region[t] = 1;
+            std::merge(patch_tris[la].begin(), patch_tris[la].end(), patch_tris[lb].begin(), patch_tris[lb].end(),
+                       std::back_inserter(tris));
+            for (int t : tris) in_region[t] = 1;
             for (int v : path) --on_paths[v];
             std::vector<int> interior, boundary;
             // The two patches must meet along this edge only (else their union is no disk: the
@@ -127,16 +131,14 @@ int relax_layout_edges(const Surface& s, std::vector<std::vector<int>>* paths, c
                 std::vector<int> stack{s.find_half_edge(path[0], path[1]) / 3};
                 for (int t : tris) label[t] = lb;
                 label[stack[0]] = la;
-                while (!stack.empty()) {
-                    const int f = stack.back();
-                    stack.pop_back();
-                    for (int k = 0; k < 3; ++k) {
-                        const int he = 3 * f + k;
-                        if (cut[he]) continue;
-                        const int o = s.twin(he) / 3;
-                        if (in_region[o] && label[o] != la) label[o] = la, stack.push_back(o);
-                    }
-                }
+                flood_triangles(s, cut, stack, [&](int o) {
+                    if (!in_region[o] || label[o] == la) return false;
+                    label[o] = la;
+                    return true;
+                });
+                patch_tris[la].clear();
+                patch_tris[lb].clear();
+                for (int t : tris) patch_tris[label[t]].push_back(t);
                 ++moves;
             }
             for (int v : path) ++on_paths[v];

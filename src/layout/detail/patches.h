@@ -18,6 +18,19 @@ void mark_path(const Surface& s, const std::vector<int>& path, std::vector<char>
 /// i-j in the cotangent Laplacian, clamped to [-500, 500] (500 for a degenerate triangle).
 double half_cotangent(const Mesh& mesh, int i, int j, int o);
 
+/// Floods from the triangles on `stack` across half-edges not marked in `cut`: every neighbour o
+/// for which claim(o) returns true (claim marks it) is flooded from in turn. Empties `stack`.
+template <class Claim>
+void flood_triangles(const Surface& s, const std::vector<char>& cut, std::vector<int>& stack, Claim claim) {
+    while (!stack.empty()) {
+        const int f = stack.back();
+        stack.pop_back();
+        for (int k = 0; k < 3; ++k)
+            if (const int h = 3 * f + k; !cut[h])
+                if (const int o = s.twin(h) / 3; claim(o)) stack.push_back(o);
+    }
+}
+
 /// Marks both half-edges of every edge walked by the given vertex paths (open paths).
 std::vector<char> cut_half_edges(const Surface& s, const std::vector<std::vector<int>>& paths);
 
