@@ -73,6 +73,12 @@ int run_render(const RenderCommandOptions& o) {
         if (extras.vertex_floats.empty())
             throw InvalidInput(mesh_path + ": has no float vertex property 'distance' (written by `quadcage fit`): "
                                "use --kind plain");
+        // `quadcage fit` writes 'distance' to the fitted surface on deviation.ply (the input's
+        // vertices) and to the input on limit.ply (the surface's vertices).
+        const std::string name = fs::path(mesh_path).filename().string();
+        fig.distance_meaning = name == "deviation.ply" ? "distance to the fitted surface"
+                               : name == "limit.ply"   ? "distance to the input mesh"
+                                                       : "vertex property 'distance'";
         image = render::deviation_figure(mesh, extras.vertex_floats, fig);
     } else {
         image = render::plain_figure(mesh, fig);

@@ -172,9 +172,9 @@ Image deviation_figure(const Mesh& mesh, const std::vector<float>& distance, con
     const Image views = render_scene(scene, view_options(o, o.width - kColourBarWidth));
     const double diag = bounding_box(mesh).diagonal();
     char buf[120];
-    std::snprintf(buf, sizeof buf, "distance to the fitted surface: max %.3g = %.3g%% of the bbox diagonal %.3g", max_d,
-                  diag > 0 ? 100 * max_d / diag : 0.0, diag);
-    Image out = with_title(views, o, buf);
+    std::snprintf(buf, sizeof buf, ": max %.3g = %.3g%% of the bbox diagonal %.3g", max_d, diag > 0 ? 100 * max_d / diag : 0.0,
+                  diag);
+    Image out = with_title(views, o, o.distance_meaning + buf);
     ColourBarOptions bar;
     bar.max_value = scale;
     bar.title = "distance   % of diag";

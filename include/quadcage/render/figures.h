@@ -18,6 +18,8 @@ struct FigureOptions {
     int height = 600;
     int supersample = 3;     ///< Anti-aliasing samples per pixel along each axis (1..8).
     std::string title;       ///< Drawn at the top (empty: none).
+    /// What the deviation figure's 'distance' measures, as its caption says it.
+    std::string distance_meaning = "distance to the fitted surface";
     std::string validate() const;  ///< Empty if valid, else what is wrong.
 };
 
@@ -44,7 +46,7 @@ Image layout_figure(const Mesh& mesh, const std::vector<int>& patch, const Figur
 
 /// Two views of `mesh` coloured by `distance` (one value >= 0 per vertex; non-finite values are shown
 /// as the top colour) with a colour bar from 0 to the maximum, labelled in absolute units and in
-/// percent of the bounding-box diagonal.
+/// percent of the bounding-box diagonal; the caption calls it options.distance_meaning.
 /// \throw InvalidInput if `distance` has the wrong size or a negative value, or as render_scene().
 Image deviation_figure(const Mesh& mesh, const std::vector<float>& distance, const FigureOptions& options = {});
 
