@@ -329,30 +329,18 @@ subdiv::LimitPoint limit_point(const subdiv::LimitSurface& surface, const subdiv
 /// alone stays in the basin of its old foot: where a distorted patch map put a foot on the wrong
 /// side of a thin part, the fit pulls the surface there into a fin and never lets go.
 void update_correspondences(const subdiv::LimitSurface& surface, std::vector<DataPoint>* data, int threads) {
-    constexpr int n = 4;  // segments per face side: 32 triangles per face
-    const subdiv::LimitTessellation tess = surface.tessellate(n);
-    const accel::ClosestPointIndex index(tess.mesh);
     std::vector<Vec3> points(data->size());
     for (size_t i = 0; i < data->size(); ++i) points[i] = (*data)[i].p;
-    const std::vector<accel::ClosestHit> hits = index.query_all(points, threads);
+    // 4 segments per face side: 32 triangles per face.
+    const std::vector<subdiv::FacePoint> global = detail::SurfaceProjector(surface, 4, threads).project(points);
     parallel_for(static_cast<int>(data->size()), threads, [&](int i) {
         DataPoint& d = (*data)[i];
         const subdiv::FacePoint local = surface.project(d.p, d.c);
-        // (u, v) of the hit from the triangle's place in its face's n x n grid.
-        const int t = hits[i].triangle, f = tess.triangle_face[t], k = t % (2 * n * n), cell = k / 2;
-        const int gi = cell / n, gj = cell % n;
-        const int corners[2][3][2] = {{{0, 0}, {1, 0}, {1, 1}}, {{0, 0}, {1, 1}, {0, 1}}};
-        double u = 0, v = 0;
-        for (int c = 0; c < 3; ++c) {
-            u += hits[i].barycentric[c] * (gi + corners[k % 2][c][0]) / n;
-            v += hits[i].barycentric[c] * (gj + corners[k % 2][c][1]) / n;
-        }
-        const subdiv::FacePoint global = surface.project(d.p, {f, u, v});
         auto d2 = [&](const subdiv::FacePoint& c) {
             const Vec3 r = surface.evaluate(c).position - d.p;
             return dot(r, r);
         };
-        d.c = d2(global) < d2(local) ? global : local;
+        d.c = d2(global[i]) < d2(local) ? global[i] : local;
     });
 }
 

@@ -123,7 +123,7 @@ int relax_layout_edges(const Surface& s, std::vector<std::vector<int>>* paths, c
                     blocked[c1] = 1;
                 }
             }
-            if (!new_path.empty() && new_path.size() >= 3 && new_path.front() == c0 && new_path != path) {
+            if (new_path.size() >= 3 && new_path != path) {
                 mark_path(s, path, &cut, 0);
                 mark_path(s, new_path, &cut, 1);
                 path = new_path;
