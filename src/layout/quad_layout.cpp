@@ -847,10 +847,10 @@ QuadLayout build_quad_layout(const Mesh& input, const QuadLayoutOptions& options
             // The cage, patches and maps of a network, verified; "" or what fails. Times the maps
             // and the check of the last call.
             double mapped_seconds = 0, checked_seconds = 0;
-            auto finish = [&](const Builder& bb, const std::vector<std::vector<int>>& ps, QuadLayout* L) {
+            auto finish = [&](const Builder& bb, const Network& nn, QuadLayout* L) {
                 L->mesh = bb.s_.mesh();
                 const double t0 = clock();
-                const std::string problem = detail::extract_cage(bb.s_, net.corners, ps, L);
+                const std::string problem = detail::extract_cage(bb.s_, nn.corners, edge_paths_of(bb, nn), L);
                 if (!problem.empty()) return "the layout curves do not form a quad layout: " + problem;
                 detail::parameterize_patches(L);
                 const double t1 = clock();
@@ -862,34 +862,59 @@ QuadLayout build_quad_layout(const Mesh& input, const QuadLayoutOptions& options
             };
             std::vector<std::vector<int>> paths = edge_paths_of(b, net);
             bool finished = false;  // out holds the relaxed layout, built and verified
+            std::vector<int> s_cycle_ids = net.s_cycles;
             if (options.relax_sweeps > 0) {
                 // Relax: every layout edge to the middle of its two patches. The relaxed edges
                 // become new curves (the S-cycles and the orthogonal system keep the routes
                 // Algorithm 1 gave them); chords they make are split as before. Should the relaxed
                 // network fail any check below, the unrelaxed one is kept.
-                say("relaxing the layout edges");
+                say(options.relax_corners ? "relaxing the layout corners and edges" : "relaxing the layout edges");
                 detail::RelaxOptions ro;
                 ro.sweeps = options.relax_sweeps;
                 try {
                     Builder relaxed = b;
                     std::vector<std::vector<int>> moved = paths;
-                    if (detail::relax_layout_edges(relaxed.s_, &moved, ro) > 0) {
+                    std::vector<int> corners = net.corners;
+                    int moves = 0;
+                    if (options.relax_corners) {
+                        // Corners and edges in turn: a moved corner's new edges run straight
+                        // through its star, the next edge pass centres them between their patches.
+                        detail::RelaxOptions once = ro;
+                        once.sweeps = 1;
+                        for (int sweep = 0; sweep < ro.sweeps; ++sweep) {
+                            moves += detail::relax_layout_corners(relaxed.s_, &corners, &moved, ro);
+                            moves += detail::relax_layout_edges(relaxed.s_, &moved, once);
+                        }
+                    } else {
+                        moves = detail::relax_layout_edges(relaxed.s_, &moved, ro);
+                    }
+                    if (moves > 0) {
                         Network rn;
-                        rn.corners = net.corners;
+                        rn.corners = corners;
+                        auto moved_corner = [&](int v) {
+                            return corners[std::find(net.corners.begin(), net.corners.end(), v) - net.corners.begin()];
+                        };
                         for (auto& o : relaxed.obstacle_) o = 0;
                         size_t k = 0;
                         for (const auto& [id, cs] : net.closed) {
                             Cycle c = moved[k];
                             c.insert(c.end(), moved[k + 1].begin() + 1, moved[k + 1].end() - 1);
                             k += 2;
-                            rn.closed.push_back({relaxed.add_curve(c, true, true), cs});
+                            rn.closed.push_back({relaxed.add_curve(c, true, true), {moved_corner(cs[0]), moved_corner(cs[1])}});
                         }
                         for (size_t a = 0; a < net.arcs.size(); ++a)
                             rn.arcs.push_back(relaxed.add_curve(moved[k++], false, true));
                         relaxed.split_chords();
                         QuadLayout trial = out;
-                        const std::string problem = finish(relaxed, edge_paths_of(relaxed, rn), &trial);
+                        const std::string problem = finish(relaxed, rn, &trial);
                         if (problem.empty()) {
+                            // The S-cycles are now the relaxed closed curves (through the moved corners).
+                            for (int& id : s_cycle_ids)
+                                for (size_t i = 0; i < net.closed.size(); ++i)
+                                    if (net.closed[i].first == id) {
+                                        id = rn.closed[i].first;
+                                        break;
+                                    }
                             b = std::move(relaxed);
                             out = std::move(trial);
                             finished = true;
@@ -903,9 +928,9 @@ QuadLayout build_quad_layout(const Mesh& input, const QuadLayoutOptions& options
             }
 
             if (!finished)
-                if (const std::string problem = finish(b, paths, &out); !problem.empty()) throw InternalError(problem);
+                if (const std::string problem = finish(b, net, &out); !problem.empty()) throw InternalError(problem);
             for (int i = 0; i < 2 * g; ++i) out.orthogonal_system.push_back(b.curves_[i]);
-            for (int id : net.s_cycles) out.s_cycles.push_back(b.curves_[id]);
+            for (int id : s_cycle_ids) out.s_cycles.push_back(b.curves_[id]);
             const double t_quality = clock();
             detail::measure_quality(&out);
             const double t_end = clock();

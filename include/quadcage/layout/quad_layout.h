@@ -21,6 +21,8 @@ struct QuadLayoutOptions {
     OrthogonalSystemOptions cycles;  ///< For the orthogonal system the layout starts from (g >= 1).
     int relax_sweeps = 3;  ///< Passes that move every layout edge to the middle of its two patches
                            ///< (0: keep the constructed routes), >= 0.
+    bool relax_corners = true;  ///< In each pass, first move every corner to the area centre of its
+                                ///< patches (where they form a disk) and reroute its edges.
     std::function<void(const std::string&)>
         progress;                  ///< Called with a short message per stage; may be empty.
     std::string validate() const;  ///< Empty if valid, else what is wrong.
@@ -53,9 +55,10 @@ struct QuadLayout {
     std::vector<std::array<UV, 3>> corner_uv;
     /// Mesh-vertex paths of the layout edges, from edge.corners[0] to edge.corners[1].
     std::vector<std::vector<int>> edge_paths;
-    /// The 2g cycles the layout was built from (empty for g = 0) and the 4g-4 cycles S_i of
-    /// Algorithm 1 (empty for g <= 1), as they were routed: the layout edges are relaxed after that
-    /// (same corners and patches), so they need not run along these cycles any more.
+    /// The 2g cycles the layout was built from (empty for g = 0), as they were routed: the layout
+    /// is relaxed after that, so its edges need not run along them. The 4g-4 cycles S_i of
+    /// Algorithm 1 (empty for g <= 1) as they are in the layout: each is two layout edges, through
+    /// two corners (the relaxed curves, unless relaxation is off or failed).
     std::vector<Cycle> orthogonal_system;
     std::vector<Cycle> s_cycles;
     LayoutQuality quality;
