@@ -743,6 +743,8 @@ int remove_hairpins(const Surface& s, Cycle& c, bool closed, const std::vector<c
 
 std::string QuadLayoutOptions::validate() const {
     if (relax_sweeps < 0) return "relax_sweeps must be >= 0, got " + std::to_string(relax_sweeps);
+    if (relax_corner_sweeps < 0)
+        return "relax_corner_sweeps must be >= 0, got " + std::to_string(relax_corner_sweeps);
     return cycles.validate();
 }
 
@@ -868,7 +870,7 @@ QuadLayout build_quad_layout(const Mesh& input, const QuadLayoutOptions& options
                 // become new curves (the S-cycles and the orthogonal system keep the routes
                 // Algorithm 1 gave them); chords they make are split as before. Should the relaxed
                 // network fail any check below, the unrelaxed one is kept.
-                say(options.relax_corners ? "relaxing the layout corners and edges" : "relaxing the layout edges");
+                say(options.relax_corner_sweeps > 0 ? "relaxing the layout corners and edges" : "relaxing the layout edges");
                 detail::RelaxOptions ro;
                 ro.sweeps = options.relax_sweeps;
                 try {
@@ -876,13 +878,14 @@ QuadLayout build_quad_layout(const Mesh& input, const QuadLayoutOptions& options
                     std::vector<std::vector<int>> moved = paths;
                     std::vector<int> corners = net.corners;
                     int moves = 0;
-                    if (options.relax_corners) {
+                    if (options.relax_corner_sweeps > 0) {
                         // Corners and edges in turn: a moved corner's new edges run straight
                         // through its star, the next edge pass centres them between their patches.
                         detail::RelaxOptions once = ro;
                         once.sweeps = 1;
                         for (int sweep = 0; sweep < ro.sweeps; ++sweep) {
-                            moves += detail::relax_layout_corners(relaxed.s_, &corners, &moved, ro);
+                            if (sweep < options.relax_corner_sweeps)
+                                moves += detail::relax_layout_corners(relaxed.s_, &corners, &moved, ro);
                             moves += detail::relax_layout_edges(relaxed.s_, &moved, once);
                         }
                     } else {

@@ -204,7 +204,7 @@ TEST(QuadLayoutRelax, EdgeRelaxationMovesEdgesAndKeepsTheCorners) {
         const Mesh input = g == 0 ? shapes::icosphere(3) : plate(g);
         layout::QuadLayoutOptions fixed, edges;
         fixed.relax_sweeps = 0;
-        edges.relax_corners = false;
+        edges.relax_corner_sweeps = 0;
         const QuadLayout a = build_quad_layout(input, fixed), b = build_quad_layout(input, edges);
         expect_valid_layout(a, input, g);
         expect_valid_layout(b, input, g);
@@ -233,7 +233,7 @@ TEST(QuadLayoutRelax, CornerRelaxationSpreadsTheSkullsCorners) {
         GTEST_SKIP() << "shared meshes not found in " << test::shared_meshes_dir();
     const Mesh input = test::load_shared("skull.obj");
     layout::QuadLayoutOptions edges;
-    edges.relax_corners = false;
+    edges.relax_corner_sweeps = 0;
     const QuadLayout a = build_quad_layout(input, edges), b = build_quad_layout(input);
     expect_valid_layout(a, input, 2);
     expect_valid_layout(b, input, 2);
@@ -252,6 +252,9 @@ TEST(QuadLayoutRelax, RejectsNegativeSweeps) {
     bad.relax_sweeps = -1;
     EXPECT_NE(bad.validate(), "");
     EXPECT_THROW(build_quad_layout(plate(2), bad), InvalidInput);
+    bad.relax_sweeps = 3;
+    bad.relax_corner_sweeps = -1;
+    EXPECT_NE(bad.validate(), "");
 }
 
 // ---------------------------------------------------------------------------------------------

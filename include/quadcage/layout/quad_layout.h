@@ -21,8 +21,9 @@ struct QuadLayoutOptions {
     OrthogonalSystemOptions cycles;  ///< For the orthogonal system the layout starts from (g >= 1).
     int relax_sweeps = 3;  ///< Passes that move every layout edge to the middle of its two patches
                            ///< (0: keep the constructed routes), >= 0.
-    bool relax_corners = true;  ///< In each pass, first move every corner to the area centre of its
-                                ///< patches (where they form a disk) and reroute its edges.
+    int relax_corner_sweeps = 2;  ///< The first this many of those passes first move every corner
+                                  ///< towards where it shares its patches' area evenly and reroute its
+                                  ///< edges (0: the corners stay where the construction put them), >= 0.
     std::function<void(const std::string&)>
         progress;                  ///< Called with a short message per stage; may be empty.
     std::string validate() const;  ///< Empty if valid, else what is wrong.

@@ -1,7 +1,7 @@
 #pragma once
 // Relaxation of a quad layout (design.md §4's "tight and smooth, corners spread"): each corner is
-// moved to the area centre of its patches, each layout edge to the middle of the two patches it
-// separates.
+// moved towards where it shares its patches' area evenly, each layout edge to the middle of the two
+// patches it separates.
 
 #include <vector>
 
@@ -12,11 +12,10 @@ namespace quadcage::layout::detail {
 struct RelaxOptions {
     int sweeps = 3;         ///< Passes over all edges (each pass moves every edge once, in order).
     double middle = 10.0;   ///< Path cost factor 1 + middle * (2h - 1)^2 at harmonic value h.
-    bool corners = true;    ///< Move the corners too (relax_layout_corners() before each edge pass).
     double ray = 50.0;      ///< A moved corner's edges: path cost factor 1 + ray * d^2 at distance d
                             ///< from the straight ray in the star's map (radius 1).
-    double balance = 0.5;       ///< A moved corner's target: this fraction of the way from the centre of
-                                ///< its star's map to the point that shares its area evenly.
+    double balance = 0.5;   ///< A moved corner's target: this fraction of the way from the centre of
+                            ///< its star's map to the point that shares its area evenly.
     int corner_candidates = 4;  ///< Vertices tried as a moved corner, nearest the target first.
 };
 
