@@ -129,20 +129,31 @@ std::vector<int> first_steps(const Surface& s, int x, const std::vector<double>&
     return result;
 }
 
+// A network's cut half-edges, its patches (triangle labels, each patch's triangles in ascending
+// order) and, per vertex, how many of its paths run through it (corners: their degree). The
+// relaxations keep all of it up to date as they move edges and corners.
+struct Network {
+    std::vector<char> cut;
+    std::vector<int> label;
+    std::vector<std::vector<int>> patch_tris;
+    std::vector<int> on_paths;
+
+    Network(const Surface& s, const std::vector<std::vector<int>>& paths)
+        : cut(cut_half_edges(s, paths)), on_paths(s.num_vertices(), 0) {
+        patch_tris.resize(face_components(s, cut, &label));
+        for (int t = 0; t < s.mesh().num_triangles(); ++t) patch_tris[label[t]].push_back(t);
+        for (const auto& p : paths)
+            for (int v : p) ++on_paths[v];
+    }
+};
+
 }  // namespace
 
 int relax_layout_edges(const Surface& s, std::vector<std::vector<int>>* paths, const RelaxOptions& options) {
     const Mesh& mesh = s.mesh();
     const int n = s.num_vertices(), nt = mesh.num_triangles();
-    std::vector<char> cut = cut_half_edges(s, *paths);
-    std::vector<int> label;
-    // Each patch's triangles, in ascending order (kept up to date as edges move).
-    std::vector<std::vector<int>> patch_tris(face_components(s, cut, &label));
-    for (int t = 0; t < nt; ++t) patch_tris[label[t]].push_back(t);
-    // Per vertex: how many paths run through it (corners: their degree).
-    std::vector<int> on_paths(n, 0);
-    for (const auto& p : *paths)
-        for (int v : p) ++on_paths[v];
+    Network net(s, *paths);
+    auto& [cut, label, patch_tris, on_paths] = net;
 
     std::vector<char> in_region(nt, 0);
     std::vector<int> local(n, -1);
@@ -249,18 +260,12 @@ int relax_layout_edges(const Surface& s, std::vector<std::vector<int>>* paths, c
     return moves;
 }
 
-
 int relax_layout_corners(const Surface& s, std::vector<int>* corners, std::vector<std::vector<int>>* paths,
                          const RelaxOptions& options) {
     const Mesh& mesh = s.mesh();
     const int n = s.num_vertices(), nt = mesh.num_triangles();
-    std::vector<char> cut = cut_half_edges(s, *paths);
-    std::vector<int> label;
-    std::vector<std::vector<int>> patch_tris(face_components(s, cut, &label));
-    for (int t = 0; t < nt; ++t) patch_tris[label[t]].push_back(t);
-    std::vector<int> on_paths(n, 0);
-    for (const auto& p : *paths)
-        for (int v : p) ++on_paths[v];
+    Network net(s, *paths);
+    auto& [cut, label, patch_tris, on_paths] = net;
     std::vector<char> is_corner(n, 0);
     for (int c : *corners) is_corner[c] = 1;
 
