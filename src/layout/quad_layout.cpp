@@ -866,10 +866,11 @@ QuadLayout build_quad_layout(const Mesh& input, const QuadLayoutOptions& options
             bool finished = false;  // out holds the relaxed layout, built and verified
             std::vector<int> s_cycle_ids = net.s_cycles;
             if (options.relax_sweeps > 0) {
-                // Relax: every layout edge to the middle of its two patches. The relaxed edges
-                // become new curves (the S-cycles and the orthogonal system keep the routes
-                // Algorithm 1 gave them); chords they make are split as before. Should the relaxed
-                // network fail any check below, the unrelaxed one is kept.
+                // Relax: corners towards an even share of their patches' area, every layout edge to
+                // the middle of its two patches. The relaxed edges become new curves (the
+                // orthogonal system keeps the routes Algorithm 1 gave it; the S-cycles are the
+                // relaxed closed curves from then on); chords they make are split as before. Should
+                // the relaxed network fail any check below, the unrelaxed one is kept.
                 say(options.relax_corner_sweeps > 0 ? "relaxing the layout corners and edges" : "relaxing the layout edges");
                 detail::RelaxOptions ro;
                 ro.sweeps = options.relax_sweeps;
