@@ -9,7 +9,6 @@
 #include <numeric>
 
 #include "detail/patches.h"
-#include "quadcage/core/errors.h"
 
 namespace quadcage::layout::detail {
 
@@ -51,6 +50,32 @@ bool harmonic_extension(const Mesh& mesh, const std::vector<int>& tris, const st
     if (solver.info() != Eigen::Success) return false;
     *x = solver.solve(rhs);
     return true;
+}
+
+// The area of the triangles `tris` as it lies in a map of them into [-1, 1]^2 (uv(i, k): the image
+// of corner k of tris[i]), binned on a 32 x 32 grid: per non-empty bin, the area-weighted mean
+// image of its triangles' centroids and their area (twice the area, as a weight).
+std::vector<std::pair<UV, double>> area_in_map(const Mesh& mesh, const std::vector<int>& tris,
+                                               const std::function<UV(int, int)>& uv) {
+    constexpr int G = 32;
+    std::vector<double> bin_area(G * G, 0.0);
+    std::vector<UV> bin_moment(G * G, UV{0, 0});
+    for (size_t i = 0; i < tris.size(); ++i) {
+        const Triangle& tri = mesh.triangles[tris[i]];
+        const Vec3& p0 = mesh.points[tri[0]];
+        const double a = norm(cross(mesh.points[tri[1]] - p0, mesh.points[tri[2]] - p0));
+        UV q{0, 0};
+        for (int k = 0; k < 3; ++k)
+            for (int d = 0; d < 2; ++d) q[d] += uv(static_cast<int>(i), k)[d] / 3;
+        const int bx = std::clamp(static_cast<int>((q[0] + 1) / 2 * G), 0, G - 1);
+        const int by = std::clamp(static_cast<int>((q[1] + 1) / 2 * G), 0, G - 1);
+        bin_area[by * G + bx] += a;
+        for (int d = 0; d < 2; ++d) bin_moment[by * G + bx][d] += a * q[d];
+    }
+    std::vector<std::pair<UV, double>> mass;
+    for (int b = 0; b < G * G; ++b)
+        if (bin_area[b] > 0) mass.push_back({{bin_moment[b][0] / bin_area[b], bin_moment[b][1] / bin_area[b]}, bin_area[b]});
+    return mass;
 }
 
 // The point p inside the regular 2d-gon (vertex j at angle pi j / d) whose fan of quads
@@ -420,28 +445,12 @@ int relax_layout_corners(const Surface& s, std::vector<int>* corners, std::vecto
             Eigen::MatrixXd x;
             if (harmonic_extension(mesh, tris, slot, m, 2, [&](int b, int col) { return boundary_uv[b][col]; }, &x)) {
                 for (int i = 0; i < m; ++i) free_uv[i] = {x(i, 0), x(i, 1)};
-                auto uv_of = [&](int id) { return id < m ? free_uv[id] : boundary_uv[id - m]; };
-                // The star's area as it lies in the map, binned.
-                constexpr int G = 32;
-                std::vector<double> bin_area(G * G, 0.0);
-                std::vector<UV> bin_moment(G * G, UV{0, 0});
-                for (int i = 0; i < F; ++i) {
-                    const Triangle& tri = mesh.triangles[tris[i]];
-                    const double a = norm(cross(s.point(tri[1]) - s.point(tri[0]), s.point(tri[2]) - s.point(tri[0])));
-                    UV q{0, 0};
-                    for (int k = 0; k < 3; ++k)
-                        for (int d = 0; d < 2; ++d) q[d] += uv_of(slot[3 * i + k])[d] / 3;
-                    const int bx = std::clamp(static_cast<int>((q[0] + 1) / 2 * G), 0, G - 1);
-                    const int by = std::clamp(static_cast<int>((q[1] + 1) / 2 * G), 0, G - 1);
-                    bin_area[by * G + bx] += a;
-                    for (int d = 0; d < 2; ++d) bin_moment[by * G + bx][d] += a * q[d];
-                }
-                std::vector<std::pair<UV, double>> mass;
-                for (int b = 0; b < G * G; ++b)
-                    if (bin_area[b] > 0) mass.push_back({{bin_moment[b][0] / bin_area[b], bin_moment[b][1] / bin_area[b]}, bin_area[b]});
                 // Halfway from the centre of the map (which keeps the patches' shapes) to the point
                 // that splits the area evenly.
-                UV target = balancing_point(degree, mass);
+                UV target = balancing_point(degree, area_in_map(mesh, tris, [&](int i, int k) {
+                    const int id = slot[3 * i + k];
+                    return id < m ? free_uv[id] : boundary_uv[id - m];
+                }));
                 for (double& t : target) t *= options.balance;
                 std::vector<std::pair<double, int>> by_distance(m);
                 for (int i = 0; i < m; ++i)
