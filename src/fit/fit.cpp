@@ -474,7 +474,7 @@ LevelReport fit_level(const Context& ctx, const LevelTopology& topo, subdiv::Lim
                             summary.total_time_in_seconds));
         sec.solve += seconds_since(clock);
         rep.iterations = round + 1;
-        rep.solver_iterations += static_cast<int>(summary.iterations.size());
+        rep.solver_iterations += summary.num_successful_steps + summary.num_unsuccessful_steps;
         if (!summary.IsSolutionUsable()) {
             rep.stop_reason = "solver failed: " + summary.message;
             break;

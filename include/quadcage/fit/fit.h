@@ -32,7 +32,9 @@ struct FitOptions {
                                ///< of LevelReport::within_tolerance. > 0.
     int max_level = 5;         ///< Tolerance mode: highest level tried, 0..kMaxFitLevel.
     int outer_iterations = 8;  ///< Solve / correspondence-update rounds per level, >= 1.
-    int solver_iterations = 10;  ///< Ceres iterations per solve, >= 1.
+    int solver_iterations = 1;  ///< Ceres (Levenberg-Marquardt) steps per solve, >= 1. With the feet fixed
+                                ///< the residuals are linear in the control points (up to the Huber
+                                ///< loss), so one step solves a round; the rounds re-linearise.
     double min_improvement = 2e-3;  ///< Stop a level when a round improves the data RMS by less than
                                     ///< this fraction, in [0, 1).
     double smoothness_start = 1e-3;  ///< Weight of the control-net Laplacian term relative to the data
@@ -100,7 +102,7 @@ struct LevelReport {
     double diagonal = 0;          ///< Bounding-box diagonal of the mesh.
     double within_tolerance = 0;  ///< Share of input samples within FitOptions::tolerance (relative).
     int iterations = 0;           ///< Solve / correspondence rounds run.
-    int solver_iterations = 0;    ///< Ceres iterations summed over the rounds.
+    int solver_iterations = 0;    ///< Ceres steps (accepted or not) summed over the rounds.
     std::string stop_reason;      ///< Why the rounds stopped.
     StageSeconds seconds;
     double unfitted_relative_rms = -1;        ///< With FitOptions::measure_unfitted, else -1.
