@@ -101,6 +101,43 @@ TEST(FitCosts, SmoothnessGradient) {
     }
 }
 
+TEST(FitCosts, StencilGroupGradient) {
+    for (int blocks : {1, 4, 16}) {
+        const Probe p = random_probe(blocks, 40 + blocks, false);
+        const Probe q = random_probe(blocks, 50 + blocks, false);  // other weights, same blocks
+        const Vec3 n = Vec3{2, -1, 2} / 3.0;
+        std::vector<StencilRows> members;
+        members.push_back(point_to_point_rows(p.weights, {0.3, -0.2, 0.9}, 2.5));
+        members.push_back(tangent_weighted_rows(q.weights, {0.4, -0.1, 0.2}, n, 0.05, 1.5));
+        members.push_back(point_to_plane_rows(p.weights, {0.1, 0.2, 0.3}, n, 0.7));
+        const StencilGroupCost cost(members);
+        EXPECT_EQ(cost.num_residuals(), 7);
+        std::string log;
+        EXPECT_TRUE(gradient_ok(cost, p, &log)) << log;
+    }
+}
+
+TEST(FitCosts, StencilGroupStacksItsMembers) {
+    // The group's residuals are its members' residuals, in order, each as its own cost gives it.
+    const Probe p = random_probe(5, 61, false), q = random_probe(5, 62, false);
+    const Vec3 n = Vec3{0, 0.6, 0.8};
+    std::vector<std::unique_ptr<ceres::CostFunction>> singles;
+    singles.emplace_back(tangent_weighted_cost(p.weights, {1, 2, 3}, n, 0.1, 0.5));
+    singles.emplace_back(point_to_plane_cost(q.weights, {-1, 0, 2}, n, 3.0));
+    const StencilGroupCost group({tangent_weighted_rows(p.weights, {1, 2, 3}, n, 0.1, 0.5),
+                                  point_to_plane_rows(q.weights, {-1, 0, 2}, n, 3.0)});
+    std::vector<const double*> params;
+    for (const auto& x : p.points) params.push_back(x.data());
+    double all[4], one[3];
+    ASSERT_TRUE(group.Evaluate(params.data(), all, nullptr));
+    ASSERT_TRUE(singles[0]->Evaluate(params.data(), one, nullptr));
+    for (int k = 0; k < 3; ++k) EXPECT_DOUBLE_EQ(all[k], one[k]);
+    ASSERT_TRUE(singles[1]->Evaluate(params.data(), one, nullptr));
+    EXPECT_DOUBLE_EQ(all[3], one[0]);
+    EXPECT_THROW(StencilGroupCost({point_to_point_rows({1.0}, {0, 0, 0}, 1.0), point_to_point_rows({0.5, 0.5}, {0, 0, 0}, 1.0)}),
+                 std::exception);
+}
+
 TEST(FitCosts, ResidualsHaveTheirMeaning) {
     // A stencil (0.25, 0.75) on points a, b is the point 0.25 a + 0.75 b.
     const std::array<double, 3> a{0, 0, 0}, b{4, 0, 0};

@@ -29,27 +29,74 @@ bool StencilCost::Evaluate(double const* const* parameters, double* residuals, d
     return true;
 }
 
+StencilGroupCost::StencilGroupCost(std::vector<StencilRows> members) : members_(std::move(members)) {
+    QC_CHECK(!members_.empty(), "StencilGroupCost: no members");
+    const size_t blocks = members_.front().weights.size();
+    QC_CHECK(blocks > 0, "StencilGroupCost: empty stencil");
+    int rows = 0;
+    for (const StencilRows& m : members_) {
+        QC_CHECK(m.rows == 1 || m.rows == 3, "StencilGroupCost: rows must be 1 or 3");
+        QC_CHECK(m.weights.size() == blocks, "StencilGroupCost: members differ in their number of blocks");
+        rows += m.rows;
+    }
+    set_num_residuals(rows);
+    mutable_parameter_block_sizes()->assign(blocks, 3);
+}
+
+bool StencilGroupCost::Evaluate(double const* const* parameters, double* residuals, double** jacobians) const {
+    const size_t blocks = members_.front().weights.size();
+    int row = 0;
+    for (const StencilRows& m : members_) {
+        double y[3] = {0, 0, 0};
+        for (size_t i = 0; i < blocks; ++i)
+            for (int d = 0; d < 3; ++d) y[d] += m.weights[i] * parameters[i][d];
+        for (int r = 0; r < m.rows; ++r)
+            residuals[row + r] = m.a[3 * r] * y[0] + m.a[3 * r + 1] * y[1] + m.a[3 * r + 2] * y[2] - m.b[r];
+        if (jacobians)
+            for (size_t i = 0; i < blocks; ++i) {
+                if (!jacobians[i]) continue;
+                double* out = jacobians[i] + 3 * row;  // rows x 3, row-major, this member's rows
+                for (int k = 0; k < 3 * m.rows; ++k) out[k] = m.weights[i] * m.a[k];
+            }
+        row += m.rows;
+    }
+    return true;
+}
+
+StencilRows point_to_point_rows(std::vector<double> weights, const Vec3& p, double scale) {
+    return {std::move(weights), 3, {scale, 0, 0, 0, scale, 0, 0, 0, scale}, {scale * p.x, scale * p.y, scale * p.z}};
+}
+
+StencilRows tangent_weighted_rows(std::vector<double> weights, const Vec3& p, const Vec3& n, double mu, double scale) {
+    QC_CHECK(mu >= 0, "tangent_weighted_cost: mu must be >= 0");
+    const double t = std::sqrt(mu);
+    const double nv[3] = {n.x, n.y, n.z};
+    StencilRows out{std::move(weights), 3, {}, {}};
+    for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c) out.a[3 * r + c] = scale * ((1 - t) * nv[r] * nv[c] + (r == c ? t : 0.0));
+    for (int r = 0; r < 3; ++r) out.b[r] = out.a[3 * r] * p.x + out.a[3 * r + 1] * p.y + out.a[3 * r + 2] * p.z;
+    return out;
+}
+
+StencilRows point_to_plane_rows(std::vector<double> weights, const Vec3& q, const Vec3& n, double scale) {
+    return {std::move(weights), 1, {scale * n.x, scale * n.y, scale * n.z, 0, 0, 0, 0, 0, 0}, {scale * dot(n, q), 0, 0}};
+}
+
+namespace {
+ceres::CostFunction* single(StencilRows r) { return new StencilCost(std::move(r.weights), r.rows, r.a, r.b); }
+}  // namespace
+
 ceres::CostFunction* point_to_point_cost(std::vector<double> weights, const Vec3& p, double scale) {
-    const std::array<double, 9> a = {scale, 0, 0, 0, scale, 0, 0, 0, scale};
-    return new StencilCost(std::move(weights), 3, a, {scale * p.x, scale * p.y, scale * p.z});
+    return single(point_to_point_rows(std::move(weights), p, scale));
 }
 
 ceres::CostFunction* tangent_weighted_cost(std::vector<double> weights, const Vec3& p, const Vec3& n, double mu,
                                            double scale) {
-    QC_CHECK(mu >= 0, "tangent_weighted_cost: mu must be >= 0");
-    const double t = std::sqrt(mu);
-    const double nv[3] = {n.x, n.y, n.z};
-    std::array<double, 9> a{};
-    for (int r = 0; r < 3; ++r)
-        for (int c = 0; c < 3; ++c) a[3 * r + c] = scale * ((1 - t) * nv[r] * nv[c] + (r == c ? t : 0.0));
-    std::array<double, 3> b{};
-    for (int r = 0; r < 3; ++r) b[r] = a[3 * r] * p.x + a[3 * r + 1] * p.y + a[3 * r + 2] * p.z;
-    return new StencilCost(std::move(weights), 3, a, b);
+    return single(tangent_weighted_rows(std::move(weights), p, n, mu, scale));
 }
 
 ceres::CostFunction* point_to_plane_cost(std::vector<double> weights, const Vec3& q, const Vec3& n, double scale) {
-    const std::array<double, 9> a = {scale * n.x, scale * n.y, scale * n.z, 0, 0, 0, 0, 0, 0};
-    return new StencilCost(std::move(weights), 1, a, {scale * dot(n, q), 0, 0});
+    return single(point_to_plane_rows(std::move(weights), q, n, scale));
 }
 
 ceres::CostFunction* smoothness_cost(std::vector<double> weights, double scale) {

@@ -28,6 +28,32 @@ private:
     std::array<double, 3> b_;
 };
 
+/// One affine residual r = A (sum_i w_i x_i) - b (A: `rows` x 3, row-major; rows 1 or 3).
+struct StencilRows {
+    std::vector<double> weights;
+    int rows = 3;
+    std::array<double, 9> a{};
+    std::array<double, 3> b{};
+};
+
+/// Several StencilRows over the same parameter blocks (one per weight, the same in every member),
+/// stacked into one residual block. Data points and surface samples on the same control face share
+/// their stencil's control points; as one block each, Ceres builds the structure of J^T J from
+/// (faces x stencil size^2) products instead of (points x stencil size^2).
+class StencilGroupCost final : public ceres::CostFunction {
+public:
+    explicit StencilGroupCost(std::vector<StencilRows> members);
+    bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override;
+
+private:
+    std::vector<StencilRows> members_;
+};
+
+/// The residuals of the factories below, as StencilRows (for StencilGroupCost).
+StencilRows point_to_point_rows(std::vector<double> weights, const Vec3& p, double scale);
+StencilRows tangent_weighted_rows(std::vector<double> weights, const Vec3& p, const Vec3& n, double mu, double scale);
+StencilRows point_to_plane_rows(std::vector<double> weights, const Vec3& q, const Vec3& n, double scale);
+
 /// scale * (S - p): point-to-point distance of the limit point S = sum w_i x_i to a data point p.
 ceres::CostFunction* point_to_point_cost(std::vector<double> weights, const Vec3& p, double scale);
 
