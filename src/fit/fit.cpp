@@ -445,11 +445,11 @@ LevelReport fit_level(const Context& ctx, const LevelTopology& topo, subdiv::Lim
                 s2 += v * v;
             }
             const double scale = std::sqrt(weight * (s2 <= delta2 ? 1.0 : std::sqrt(delta2 / s2)));
-            for (double& x : rows.a) x *= scale;
-            for (double& x : rows.b) x *= scale;
+            for (double& e : rows.a) e *= scale;
+            for (double& e : rows.b) e *= scale;
             std::vector<int> vars;
             vars.reserve(c.size());
-            for (const auto& [v, weight_v] : c) vars.push_back(v);
+            for (const auto& vw : c) vars.push_back(vw.first);
             const auto [it, fresh] = group_of.emplace(std::move(vars), static_cast<int>(groups.size()));
             if (fresh) {
                 group_vars.push_back(it->first);
