@@ -6,29 +6,6 @@
 
 namespace quadcage::fit::detail {
 
-StencilCost::StencilCost(std::vector<double> weights, int rows, const std::array<double, 9>& a,
-                         const std::array<double, 3>& b)
-    : weights_(std::move(weights)), rows_(rows), a_(a), b_(b) {
-    QC_CHECK(rows == 1 || rows == 3, "StencilCost: rows must be 1 or 3");
-    QC_CHECK(!weights_.empty(), "StencilCost: empty stencil");
-    set_num_residuals(rows);
-    mutable_parameter_block_sizes()->assign(weights_.size(), 3);
-}
-
-bool StencilCost::Evaluate(double const* const* parameters, double* residuals, double** jacobians) const {
-    double y[3] = {0, 0, 0};
-    for (size_t i = 0; i < weights_.size(); ++i)
-        for (int d = 0; d < 3; ++d) y[d] += weights_[i] * parameters[i][d];
-    for (int r = 0; r < rows_; ++r)
-        residuals[r] = a_[3 * r] * y[0] + a_[3 * r + 1] * y[1] + a_[3 * r + 2] * y[2] - b_[r];
-    if (jacobians)
-        for (size_t i = 0; i < weights_.size(); ++i) {
-            if (!jacobians[i]) continue;
-            for (int k = 0; k < 3 * rows_; ++k) jacobians[i][k] = weights_[i] * a_[k];  // row-major rows_ x 3
-        }
-    return true;
-}
-
 StencilGroupCost::StencilGroupCost(std::vector<StencilRows> members) : members_(std::move(members)) {
     QC_CHECK(!members_.empty(), "StencilGroupCost: no members");
     const size_t blocks = members_.front().weights.size();
@@ -83,7 +60,7 @@ StencilRows point_to_plane_rows(std::vector<double> weights, const Vec3& q, cons
 }
 
 namespace {
-ceres::CostFunction* single(StencilRows r) { return new StencilCost(std::move(r.weights), r.rows, r.a, r.b); }
+ceres::CostFunction* single(StencilRows r) { return new StencilGroupCost({std::move(r)}); }
 }  // namespace
 
 ceres::CostFunction* point_to_point_cost(std::vector<double> weights, const Vec3& p, double scale) {
@@ -101,7 +78,7 @@ ceres::CostFunction* point_to_plane_cost(std::vector<double> weights, const Vec3
 
 ceres::CostFunction* smoothness_cost(std::vector<double> weights, double scale) {
     const std::array<double, 9> a = {scale, 0, 0, 0, scale, 0, 0, 0, scale};
-    return new StencilCost(std::move(weights), 3, a, {0, 0, 0});
+    return single({std::move(weights), 3, a, {0, 0, 0}});
 }
 
 }  // namespace quadcage::fit::detail

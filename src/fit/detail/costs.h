@@ -14,20 +14,6 @@
 
 namespace quadcage::fit::detail {
 
-/// r = A (sum_i w_i x_i) - b over one 3-vector parameter block per weight.
-class StencilCost final : public ceres::CostFunction {
-public:
-    /// \param rows 1 or 3 (rows of A, row-major in `a`).
-    StencilCost(std::vector<double> weights, int rows, const std::array<double, 9>& a, const std::array<double, 3>& b);
-    bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override;
-
-private:
-    std::vector<double> weights_;
-    int rows_;
-    std::array<double, 9> a_;
-    std::array<double, 3> b_;
-};
-
 /// One affine residual r = A (sum_i w_i x_i) - b (A: `rows` x 3, row-major; rows 1 or 3).
 struct StencilRows {
     std::vector<double> weights;
@@ -37,7 +23,7 @@ struct StencilRows {
 };
 
 /// Several StencilRows over the same parameter blocks (one per weight, the same in every member),
-/// stacked into one residual block. Data points and surface samples on the same control face share
+/// stacked into one residual block (the factories below make blocks of one). Data points and surface samples on the same control face share
 /// their stencil's control points; as one block each, Ceres builds the structure of J^T J from
 /// (faces x stencil size^2) products instead of (points x stencil size^2).
 class StencilGroupCost final : public ceres::CostFunction {
