@@ -288,6 +288,7 @@ std::vector<int> chain_order(const Builder& b, const std::vector<Cycle>& loops) 
 // loops enter in chain `order` (order[0] stays as a1).
 struct Chain {
     std::vector<Cycle> cycles;
+    std::vector<Cycle> loops;  // a1..ag in chain order, after the chain's refinement
     Mesh mesh;
     int splits = 0;
     double length = 0;
@@ -433,6 +434,7 @@ Chain build_chain(Builder b, const std::vector<Cycle>& loops, const std::vector<
         out.cycles.push_back(b.curves_[b_index[i]]);
         if (i + 1 < g) out.cycles.push_back(b.curves_[c_index[i]]);
     }
+    for (int i = 0; i < g; ++i) out.loops.push_back(b.curves_[i]);
     out.splits = b.splits_;
     out.mesh = b.s_.mesh();
     for (const Cycle& c : out.cycles) out.length += cycle_length(out.mesh, c);
@@ -509,6 +511,7 @@ OrthogonalSystem build_orthogonal_system(const Mesh& mesh, const OrthogonalSyste
                      : !errors[1].empty() ? 0
                      : (chains[1].length < chains[0].length ? 1 : 0);
     out.cycles = std::move(chains[pick].cycles);
+    out.handle_loops = std::move(chains[pick].loops);
     out.mesh = std::move(chains[pick].mesh);
     out.refinement_splits = chains[pick].splits;
     say("verifying");

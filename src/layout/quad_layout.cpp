@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <optional>
 
 #include "detail/curves.h"
@@ -326,6 +327,346 @@ Pieces find_pieces(const Builder& b, const std::vector<int>& s_ids, int g) {
     return out;
 }
 
+// How strongly a level-set loop keeps to its level: an edge costs its length times
+// 1 + kLevelStick * |u - level| (u is a distance ratio in [0, 1], or a distance over a width).
+constexpr double kLevelStick = 20.0;
+
+// The pieces cut out by closed curves `ids`, and per piece the curves around it, facing it.
+struct Cut {
+    std::vector<int> label;
+    std::map<int, std::vector<Hole>> holes;
+};
+
+Cut cut_by(const Builder& b, const std::vector<int>& ids) {
+    Cut c;
+    label_pieces(b, ids, &c.label);
+    for (int id : ids)
+        for (int side = 0; side < 2; ++side)
+            c.holes[c.label[triangle_beside(b.s_, b.curves_[id], side)]].push_back({id, side});
+    return c;
+}
+
+// A closed curve near the level set {u = level}: it leaves x, the vertex of `cut` whose u is
+// nearest the level, on one side of the cut and comes back on the other, so it crosses the cut
+// once; it avoids `wall`, the rest of the cut and where |u - level| > band. Edges cost their length times
+// 1 + kLevelStick * |u - level| / scale; x is cut[first] or later. Empty if there is no such curve.
+Cycle level_loop(const Builder& b, const std::vector<double>& u, double level, double scale, double band,
+                 const std::vector<int>& cut, std::vector<char> wall, size_t first = 1) {
+    first = std::max<size_t>(first, 1);
+    if (first + 1 >= cut.size()) return {};
+    size_t at = first;
+    for (size_t i = first; i + 1 < cut.size(); ++i)
+        if (std::abs(u[cut[i]] - level) < std::abs(u[cut[at]] - level)) at = i;
+    const int x = cut[at];
+    for (int v : cut) wall[v] = 1;  // x too: the search leaves and enters it through its sectors
+    for (size_t v = 0; v < wall.size(); ++v)
+        if (!(std::abs(u[v] - level) <= band)) wall[v] = 1;  // +inf too
+    const Surface& s = b.s_;
+    const auto sec = sectors(s, x, cut[at - 1], cut[at + 1]);
+    const auto cost = [&s, &u, level, scale](int h) {
+        const double du = std::abs(u[s.from(h)] - level) + std::abs(u[s.to(h)] - level);
+        return s.length(h) * (1 + kLevelStick * 0.5 * du / scale);
+    };
+    const std::vector<int> path = b.sector_path(x, sec[0], x, sec[1], wall, cost, nullptr);
+    if (path.empty()) return {};
+    Cycle loop{x};
+    loop.insert(loop.end(), path.begin(), path.end());
+    return loop;
+}
+
+// The level below which `share` of the area of the triangles marked in `tri` lies (triangles at
+// the mean u of their corners).
+double area_level(const Surface& s, const std::vector<double>& u, const std::vector<char>& tri, double share) {
+    std::vector<std::pair<double, double>> by_level;  // (mean u, area)
+    double total = 0;
+    for (size_t t = 0; t < tri.size(); ++t) {
+        if (!tri[t]) continue;
+        const auto& f = s.mesh().triangles[t];
+        const double ut = (u[f[0]] + u[f[1]] + u[f[2]]) / 3;
+        if (!(ut < kInf)) continue;
+        const double a = 0.5 * norm(cross(s.point(f[1]) - s.point(f[0]), s.point(f[2]) - s.point(f[0])));
+        by_level.push_back({ut, a});
+        total += a;
+    }
+    std::sort(by_level.begin(), by_level.end());
+    double run = 0;
+    for (const auto& [ut, a] : by_level) {
+        run += a;
+        if (run >= share * total) return ut;
+    }
+    return by_level.empty() ? 0.5 : by_level.back().first;
+}
+
+double surface_area(const Surface& s) {
+    double a = 0;
+    for (const auto& f : s.mesh().triangles)
+        a += 0.5 * norm(cross(s.point(f[1]) - s.point(f[0]), s.point(f[2]) - s.point(f[0])));
+    return a;
+}
+
+// The handle annulus round handle loop m: two S-cycles parallel to m, one on each side at distance
+// about `width` (the distance from m on that side). Adds them to b and to s_ids; returns whether
+// they bound an annulus round m.
+bool tube_annulus(Builder& b, int m, const std::vector<int>& loops, double width, std::vector<int>* s_ids,
+                  std::array<int, 2>* made) {
+    const Surface& s = b.s_;
+    const Cycle c = b.curves_[m];  // a copy: add_curve() below may move the curves
+    for (int side = 0; side < 2; ++side) {
+        std::vector<char> block = b.blocked();
+        for (int l : loops)
+            for (int v : b.curves_[l]) block[v] = 1;
+        PathSearch q;
+        q.blocked = &block;
+        for (int v : c) {
+            const auto [p, n] = neighbours_on(c, v);
+            const auto sec = sectors(s, v, p, n);  // named: a temporary's [side] would dangle
+            for (int w : sec[side])
+                if (!block[w]) q.sources.push_back({w, norm(s.point(w) - s.point(v))});
+        }
+        q.max_distance = 4 * width;
+        const PathResult r = detail::dijkstra(s, q);
+        int z = -1;
+        for (int v = 0; v < s.num_vertices(); ++v)
+            if (r.distance[v] < kInf &&
+                (z < 0 || std::abs(r.distance[v] - 2 * width) < std::abs(r.distance[z] - 2 * width)))
+                z = v;
+        if (z < 0) return false;
+        const Cycle loop = level_loop(b, r.distance, width, width, 0.75 * width, r.path_to(s, z), block);
+        if (loop.empty()) return false;
+        (*made)[side] = b.add_curve(loop);
+        s_ids->push_back((*made)[side]);
+    }
+    // The two must bound one piece (the annulus) that holds m and no other curve.
+    const Cut cut = cut_by(b, *s_ids);
+    const auto& around = cut.holes.at(cut.label[triangle_beside(s, c, 0)]);
+    return around.size() == 2 && around[0].curve != around[1].curve &&
+           std::all_of(around.begin(), around.end(),
+                       [&](const Hole& h) { return h.curve == (*made)[0] || h.curve == (*made)[1]; });
+}
+
+// S-cycles from the handle loops (an alternative to Algorithm 1 that gives the same pieces):
+// each handle loop a_i becomes a handle (annulus) between two parallel S-cycles; the rest, a
+// sphere with 2g holes, is cut into g-1 T-shirts by g-2 more annuli, each between two level sets
+// of d_C / (d_C + d_D) (distances to the holes C that the next T-shirt takes, and to the others),
+// the T-shirts taking the handles in chain order. Areas aim at an even share per quad (a handle 2,
+// a T-shirt 6). Algorithm 1's S-cycles all cross the orthogonal system once, so on a surface whose
+// handles hang off one body they wind round the body side by side in stacks; these stay short.
+// Returns the S-cycles' curve ids, or nothing if some curve cannot be placed (b is then unchanged).
+std::optional<std::vector<int>> tube_s_cycles(Builder& b, const std::vector<int>& loops, int g, const Say& say) {
+    Builder w = b;
+    const Surface& s = w.s_;
+    const double unit = surface_area(s) / (10.0 * g - 10);  // one quad's share
+    std::vector<int> ids;
+    std::vector<std::array<int, 2>> ends(g);
+    for (int i = 0; i < g; ++i) {
+        say("handle annulus " + std::to_string(i + 1) + " of " + std::to_string(g) + surface_size(w));
+        const double len = cycle_length(s.mesh(), w.curves_[loops[i]]);
+        double width = std::min(unit / len, 0.25 * len);
+        bool ok = false;
+        for (int attempt = 0; attempt < 3 && !ok; ++attempt, width *= 0.5) {
+            Builder trial = w;
+            std::vector<int> trial_ids = ids;
+            if (tube_annulus(trial, loops[i], loops, width, &trial_ids, &ends[i])) {
+                w = std::move(trial);
+                ids = std::move(trial_ids);
+                ok = true;
+            }
+        }
+        if (!ok) return std::nullopt;
+    }
+    // The body, a sphere with 2g holes, is cut into T-shirts one at a time: each takes three
+    // holes of what is left (the first: two nearest each other and the next nearest; then the last
+    // annulus and the two holes nearest it), inside a level set round them, then an annulus.
+    int last = -1;  // outer S-cycle of the last body annulus
+    for (int k = 0, room = 0; k + 2 < g;) {
+        say("body annulus " + std::to_string(k + 1) + " of " + std::to_string(g - 2) + surface_size(w));
+        const Cut cut = cut_by(w, ids);
+        // The body left: the piece beside the last annulus' outer side, or the one piece with 2g holes.
+        int body = -1;
+        for (const auto& [p, hs] : cut.holes) {
+            const bool has_last = std::any_of(hs.begin(), hs.end(), [last](const Hole& h) { return h.curve == last; });
+            if ((k == 0 && hs.size() == static_cast<size_t>(2 * g)) || (k > 0 && has_last && hs.size() > 2)) body = p;
+        }
+        if (body < 0) return std::nullopt;
+        std::vector<char> block(s.num_vertices(), 1), tri(cut.label.size(), 0);
+        for (size_t t = 0; t < cut.label.size(); ++t)
+            if (cut.label[t] == body) {
+                tri[t] = 1;
+                for (int v : s.mesh().triangles[t]) block[v] = 0;
+            }
+        auto distance_from = [&](const std::vector<int>& vertices) {
+            PathSearch q;
+            q.blocked = &block;
+            for (int v : vertices) q.sources.push_back({v, 0.0});
+            return detail::dijkstra(s, q).distance;
+        };
+        std::vector<int> holes;
+        for (const Hole& h : cut.holes.at(body)) holes.push_back(h.curve);
+        const int n = static_cast<int>(holes.size());
+        // gap[i][j]: distance in the body from hole i to hole j.
+        std::vector<std::vector<double>> gap(n, std::vector<double>(n, kInf));
+        for (int i = 0; i < n; ++i) {
+            if (k > 0 && holes[i] != last) continue;
+            const std::vector<double> d = distance_from(w.curves_[holes[i]]);
+            for (int j = 0; j < n; ++j)
+                for (int v : w.curves_[holes[j]]) gap[i][j] = std::min(gap[i][j], d[v]);
+        }
+        std::vector<int> C;
+        if (k == 0) {
+            int bi = -1, bj = -1;
+            for (int i = 0; i < n; ++i)
+                for (int j = i + 1; j < n; ++j)
+                    if (bi < 0 || gap[i][j] < gap[bi][bj]) bi = i, bj = j;
+            int bc = -1;
+            for (int c = 0; c < n; ++c)
+                if (c != bi && c != bj &&
+                    (bc < 0 || std::min(gap[bi][c], gap[bj][c]) < std::min(gap[bi][bc], gap[bj][bc])))
+                    bc = c;
+            C = {holes[bi], holes[bj], holes[bc]};
+        } else {
+            const int i = static_cast<int>(std::find(holes.begin(), holes.end(), last) - holes.begin());
+            std::vector<int> order;
+            for (int j = 0; j < n; ++j)
+                if (j != i) order.push_back(j);
+            std::stable_sort(order.begin(), order.end(), [&](int x, int y) { return gap[i][x] < gap[i][y]; });
+            C = {last, holes[order[0]], holes[order[1]]};
+        }
+        std::vector<int> D;
+        for (int h : holes)
+            if (std::find(C.begin(), C.end(), h) == C.end()) D.push_back(h);
+        // C's holes joined by shortest paths, and D's likewise, avoiding C's: the body less the two
+        // trees is an annulus, so a loop in it that crosses a path from one tree to the other once
+        // separates C from D, whatever the level sets do round holes of D near C.
+        std::vector<Cycle> joins;  // the trees' paths: chords between them are split for room
+        auto join = [&](const std::vector<int>& curves, const std::vector<char>& avoid) -> std::optional<std::vector<int>> {
+            std::vector<int> tree = w.curves_[curves[0]];
+            for (size_t j = 1; j < curves.size(); ++j) {
+                PathSearch q;
+                q.blocked = &avoid;
+                for (int v : tree) q.sources.push_back({v, 0.0});
+                for (int v : w.curves_[curves[j]]) q.targets.push_back({v, 0.0});
+                const PathResult r = detail::dijkstra(s, q);
+                if (r.target < 0) return std::nullopt;
+                const std::vector<int> path = r.path_to(s, r.target);
+                joins.push_back(path);
+                tree.insert(tree.end(), path.begin(), path.end());
+                tree.insert(tree.end(), w.curves_[curves[j]].begin(), w.curves_[curves[j]].end());
+            }
+            return tree;
+        };
+        std::vector<char> away = block;  // C's tree keeps a vertex away from D's holes
+        for (int c : D)
+            for (int v : w.curves_[c]) {
+                away[v] = 1;
+                for (int x : s.ring(v)) away[x] = 1;
+            }
+        for (int c : C)
+            for (int v : w.curves_[c]) away[v] = block[v];
+        const auto c_tree = join(C, away);
+        if (!c_tree) {
+            if (++room > 4 || w.split_chords(joins) == 0) return std::nullopt;
+            continue;
+        }
+        const std::vector<int>& core = *c_tree;
+        std::vector<char> off_c = block;
+        for (int v : core) off_c[v] = 1;
+        std::vector<char> near_c = off_c;  // D's tree keeps a vertex away from C's: room for the loops
+        for (int v : core)
+            for (int x : s.ring(v)) near_c[x] = 1;
+        for (int c : D)
+            for (int v : w.curves_[c]) near_c[v] = 0;
+        const auto d_tree = join(D, near_c);
+        if (!d_tree) {  // no way round C's tree a vertex off it: make room
+            if (++room > 4 || w.split_chords(joins) == 0) return std::nullopt;
+            continue;
+        }
+        const std::vector<int>& d_vertices = *d_tree;
+        const std::vector<double> d_c = distance_from(core), d_d = distance_from(d_vertices);
+        std::vector<double> u(s.num_vertices(), kInf);
+        for (int v = 0; v < s.num_vertices(); ++v)
+            if (!block[v] && d_c[v] < kInf && d_d[v] < kInf && d_c[v] + d_d[v] > 0) u[v] = d_c[v] / (d_c[v] + d_d[v]);
+        // The body left holds T-shirts k..g-2 (6 units each) and annuli k..g-3 (2 each).
+        const double units = 6.0 * (g - 1 - k) + 2.0 * (g - 2 - k);
+        const double lo0 = area_level(s, u, tri, 6 / units), hi0 = area_level(s, u, tri, 8 / units);
+        PathSearch q;
+        q.blocked = &block;
+        for (int v : core) q.sources.push_back({v, 0.0});
+        for (int v : d_vertices) q.targets.push_back({v, 0.0});
+        const PathResult bridge = detail::dijkstra(s, q);
+        if (bridge.target < 0) return std::nullopt;
+        const std::vector<int> cut_path = bridge.path_to(s, bridge.target);
+        bool ok = false;
+        // Lower levels if the loops take in holes of D that lie in C's region (islands).
+        for (const double f : {1.0, 0.6, 0.35, 0.2}) {
+            const double lo = f * lo0, hi = f * hi0;
+            Builder trial = w;
+            std::vector<int> trial_ids = ids;
+            std::vector<char> wall = off_c;  // C's tree
+            for (int v : d_vertices) wall[v] = 1;  // and D's
+            for (size_t c = 0; c < trial.curves_.size(); ++c)
+                if (trial.obstacle_[c])
+                    for (int v : trial.curves_[c]) wall[v] = 1;
+            const Cycle inner = level_loop(trial, u, lo, 1.0, kInf, cut_path, wall);
+            if (inner.empty()) continue;
+            for (int v : inner) wall[v] = 1;
+            size_t crossed = 0;  // where inner crosses the cut: outer crosses it farther on
+            while (crossed < cut_path.size() && std::find(inner.begin(), inner.end(), cut_path[crossed]) == inner.end())
+                ++crossed;
+            const Cycle outer = level_loop(trial, u, hi, 1.0, kInf, cut_path, wall, crossed + 1);
+            if (outer.empty()) continue;
+            const int a = trial.add_curve(inner), o = trial.add_curve(outer);
+            trial_ids.push_back(a);
+            trial_ids.push_back(o);
+            // The piece beside `inner` on C's side must have C and inner round it, the piece
+            // between inner and outer no other hole.
+            const Cut after = cut_by(trial, trial_ids);
+            int shirt = -1, ring = -1;
+            for (int side = 0; side < 2; ++side) {
+                const int p = after.label[triangle_beside(s, trial.curves_[a], side)];
+                const auto& hs = after.holes.at(p);
+                if (hs.size() == 4 && std::all_of(C.begin(), C.end(), [&](int c) {
+                        return std::any_of(hs.begin(), hs.end(), [c](const Hole& h) { return h.curve == c; });
+                    }))
+                    shirt = p;
+                else if (hs.size() == 2)
+                    ring = p;
+            }
+            const bool outer_on_ring =
+                ring >= 0 && (after.label[triangle_beside(s, trial.curves_[o], 0)] == ring ||
+                              after.label[triangle_beside(s, trial.curves_[o], 1)] == ring);
+            if (shirt >= 0 && ring >= 0 && outer_on_ring) {
+                w = std::move(trial);
+                ids = std::move(trial_ids);
+                last = o;
+                ok = true;
+                break;
+            }
+        }
+        if (!ok) {
+            // No loop fits between the trees: split the edges of a short cut, else the chords
+            // between the trees, and try again.
+            if (++room > 4) return std::nullopt;
+            if (cut_path.size() < 6) {
+                std::vector<std::pair<int, int>> edges;
+                for (size_t i = 0; i + 1 < cut_path.size(); ++i) edges.push_back({cut_path[i], cut_path[i + 1]});
+                w.split_curve_edges(edges);
+                continue;
+            }
+            if (w.split_chords(joins) == 0) return std::nullopt;
+            continue;
+        }
+        ++k;
+        room = 0;
+    }
+    try {
+        find_pieces(w, ids, g);
+    } catch (const InternalError&) {
+        return std::nullopt;
+    }
+    b = std::move(w);
+    return ids;
+}
+
 // The T-shirt (paper, Fig. 7; design.md §2): 2 corners on each of its 4 holes, a bottom ring and
 // a top ring through them in one cyclic order of the holes. Tries the 3 cyclic orders in both
 // directions and keeps the shortest pair of rings. Adds the rings to b and returns, per hole, its
@@ -452,9 +793,17 @@ void route_handle(Builder& b, const std::vector<int>& s_ids, const Hole& A, cons
 }
 
 // Genus >= 2: Algorithm 1, then handles (2 quads) and T-shirts (6 quads).
-Network network_of_handles_and_tshirts(Builder& b, int g, const Say& say) {
+Network network_of_handles_and_tshirts(Builder& b, int g, const std::vector<int>& handle_loops,
+                                        bool from_handle_loops, const Say& say) {
     Network net;
-    net.s_cycles = place_s_cycles(b, g, say);
+    std::optional<std::vector<int>> tubes;
+    if (from_handle_loops) {
+        for (int i = 0; i < 2 * g; ++i) b.obstacle_[i] = 0;
+        tubes = tube_s_cycles(b, handle_loops, g, say);
+        if (!tubes) say("the handle loops gave no S-cycles; Algorithm 1's instead");
+        for (int i = 0; i < 2 * g; ++i) b.obstacle_[i] = 1;
+    }
+    net.s_cycles = tubes ? *tubes : place_s_cycles(b, g, say);
     // From here on the orthogonal system is scaffolding: layout curves may cross it.
     for (int i = 0; i < 2 * g; ++i) b.obstacle_[i] = 0;
     const Pieces pieces = find_pieces(b, net.s_cycles, g);
@@ -787,10 +1136,13 @@ QuadLayout build_quad_layout(const Mesh& input, const QuadLayoutOptions& options
         curve_options.repulsion *= repulsion_scale;
         Builder b(system.mesh, curve_options);
         for (const Cycle& c : system.cycles) b.add_curve(c);
+        std::vector<int> handle_loops;
+        if (options.s_cycles_from_handle_loops)
+            for (const Cycle& c : system.handle_loops) handle_loops.push_back(b.add_curve(c, true, false));
         try {
             Network net;
             if (g >= 2)
-                net = network_of_handles_and_tshirts(b, g, say);
+                net = network_of_handles_and_tshirts(b, g, handle_loops, options.s_cycles_from_handle_loops, say);
             else if (g == 1)
                 net = network_of_torus(b, say);
             else

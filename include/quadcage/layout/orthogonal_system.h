@@ -33,6 +33,9 @@ struct OrthogonalSystem {
     /// Length of the shortest non-separating loop of each handle (the greedy homology basis
     /// a1..ag before the chain is built), ascending: a tiny value flags a tunnel from scan noise.
     std::vector<double> handle_lengths;
+    /// The g disjoint handle loops a1..ag the chain was built from (a1 is cycles[0]), in chain order,
+    /// on `mesh`: short loops round the handles' tubes, independent in homology.
+    std::vector<Cycle> handle_loops;
     int refinement_splits = 0;    ///< Edges split to make room for curves.
 };
 
