@@ -447,8 +447,9 @@ bool tube_annulus(Builder& b, int m, const std::vector<int>& loops, double width
 // S-cycles from the handle loops (an alternative to Algorithm 1 that gives the same pieces):
 // each handle loop a_i becomes a handle (annulus) between two parallel S-cycles; the rest, a
 // sphere with 2g holes, is cut into g-1 T-shirts by g-2 more annuli, each between two level sets
-// of d_C / (d_C + d_D) (distances to the holes C that the next T-shirt takes, and to the others),
-// the T-shirts taking the handles in chain order. Areas aim at an even share per quad (a handle 2,
+// of d_C / (d_C + d_D) (distances to trees joining the holes C that the next T-shirt takes, and
+// joining the others), each T-shirt taking the holes nearest each other or the last annulus.
+// Areas aim at an even share per quad (a handle 2,
 // a T-shirt 6). Algorithm 1's S-cycles all cross the orthogonal system once, so on a surface whose
 // handles hang off one body they wind round the body side by side in stacks; these stay short.
 // Returns the S-cycles' curve ids, or nothing if some curve cannot be placed (b is then unchanged).

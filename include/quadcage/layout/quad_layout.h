@@ -22,8 +22,10 @@ struct QuadLayoutOptions {
     /// g >= 2, experimental: S-cycles from the handle loops (two parallel to each, the rest between
     /// T-shirts cut off the body one at a time) instead of Algorithm 1's, which each cross the
     /// orthogonal system once and on a body with handles wind round it in stacks. Falls back to
-    /// Algorithm 1's when a curve cannot be placed. Off: fertility's level-3 fit improves
-    /// (Hausdorff 2.6e-2 -> 8.7e-3) but botijo falls back; not yet measured on the other meshes.
+    /// Algorithm 1's when a curve cannot be placed. Off by default: it takes fertility's level-3
+    /// fit from RMS 1.9e-3, Hausdorff 2.6e-2 to 6.0e-4, 1.3e-2, but botijo and the genus-5 plate
+    /// fall back (the third body annulus finds no loop), and skull's and 3holes' fits get a little
+    /// worse (still within #5's targets).
     bool s_cycles_from_handle_loops = false;
     int relax_sweeps = 3;  ///< Passes that move every layout edge to the middle of its two patches
                            ///< (0: keep the constructed routes), >= 0.
