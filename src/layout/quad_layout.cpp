@@ -293,20 +293,35 @@ std::vector<int> place_s_cycles(Builder& b, int g, const Say& say) {
     return ids;
 }
 
+// The pieces cut out by closed curves `ids`, and per piece the curves around it, facing it.
+struct Cut {
+    int count = 0;  // pieces
+    std::vector<int> label;
+    std::map<int, std::vector<Hole>> holes;
+};
+
+Cut cut_by(const Builder& b, const std::vector<int>& ids) {
+    Cut c;
+    c.count = label_pieces(b, ids, &c.label);
+    for (int id : ids)
+        for (int side = 0; side < 2; ++side)
+            c.holes[c.label[triangle_beside(b.s_, b.curves_[id], side)]].push_back({id, side});
+    return c;
+}
+
 struct Pieces {
     std::vector<std::vector<Hole>> holes;  // per piece: the S-cycles around it, facing it
 };
 
 Pieces find_pieces(const Builder& b, const std::vector<int>& s_ids, int g) {
-    std::vector<int> label;
-    const int count = label_pieces(b, s_ids, &label);
+    const Cut cut = cut_by(b, s_ids);
+    const int count = cut.count;
+    const std::vector<int>& label = cut.label;
     QC_CHECK(count == 3 * g - 3, "the S-cycles cut " + std::to_string(count) +
                                      " pieces, want 3g-3 = " + std::to_string(3 * g - 3));
     Pieces out;
     out.holes.resize(count);
-    for (int id : s_ids)
-        for (int side = 0; side < 2; ++side)
-            out.holes[label[triangle_beside(b.s_, b.curves_[id], side)]].push_back({id, side});
+    for (const auto& [piece, holes] : cut.holes) out.holes[piece] = holes;
     int annuli = 0, shirts = 0;
     for (const auto& h : out.holes) {
         if (h.size() == 2)
@@ -330,21 +345,6 @@ Pieces find_pieces(const Builder& b, const std::vector<int>& s_ids, int g) {
 // How strongly a level-set loop keeps to its level: an edge costs its length times
 // 1 + kLevelStick * |u - level| (u is a distance ratio in [0, 1], or a distance over a width).
 constexpr double kLevelStick = 20.0;
-
-// The pieces cut out by closed curves `ids`, and per piece the curves around it, facing it.
-struct Cut {
-    std::vector<int> label;
-    std::map<int, std::vector<Hole>> holes;
-};
-
-Cut cut_by(const Builder& b, const std::vector<int>& ids) {
-    Cut c;
-    label_pieces(b, ids, &c.label);
-    for (int id : ids)
-        for (int side = 0; side < 2; ++side)
-            c.holes[c.label[triangle_beside(b.s_, b.curves_[id], side)]].push_back({id, side});
-    return c;
-}
 
 // A closed curve near the level set {u = level}: it leaves x, the vertex of `cut` whose u is
 // nearest the level, on one side of the cut and comes back on the other, so it crosses the cut
@@ -384,7 +384,7 @@ double area_level(const Surface& s, const std::vector<double>& u, const std::vec
         const auto& f = s.mesh().triangles[t];
         const double ut = (u[f[0]] + u[f[1]] + u[f[2]]) / 3;
         if (!(ut < kInf)) continue;
-        const double a = 0.5 * norm(cross(s.point(f[1]) - s.point(f[0]), s.point(f[2]) - s.point(f[0])));
+        const double a = triangle_area(s.mesh(), static_cast<int>(t));
         by_level.push_back({ut, a});
         total += a;
     }
@@ -395,13 +395,6 @@ double area_level(const Surface& s, const std::vector<double>& u, const std::vec
         if (run >= share * total) return ut;
     }
     return by_level.empty() ? 0.5 : by_level.back().first;
-}
-
-double surface_area(const Surface& s) {
-    double a = 0;
-    for (const auto& f : s.mesh().triangles)
-        a += 0.5 * norm(cross(s.point(f[1]) - s.point(f[0]), s.point(f[2]) - s.point(f[0])));
-    return a;
 }
 
 // The handle annulus round handle loop m: two S-cycles parallel to m, one on each side at distance
@@ -456,7 +449,7 @@ bool tube_annulus(Builder& b, int m, const std::vector<int>& loops, double width
 std::optional<std::vector<int>> tube_s_cycles(Builder& b, const std::vector<int>& loops, int g, const Say& say) {
     Builder w = b;
     const Surface& s = w.s_;
-    const double unit = surface_area(s) / (10.0 * g - 10);  // one quad's share
+    const double unit = surface_area(s.mesh()) / (10.0 * g - 10);  // one quad's share
     std::vector<int> ids;
     std::vector<std::array<int, 2>> ends(g);
     for (int i = 0; i < g; ++i) {
@@ -489,12 +482,9 @@ std::optional<std::vector<int>> tube_s_cycles(Builder& b, const std::vector<int>
             if ((k == 0 && hs.size() == static_cast<size_t>(2 * g)) || (k > 0 && has_last && hs.size() > 2)) body = p;
         }
         if (body < 0) return std::nullopt;
-        std::vector<char> block(s.num_vertices(), 1), tri(cut.label.size(), 0);
-        for (size_t t = 0; t < cut.label.size(); ++t)
-            if (cut.label[t] == body) {
-                tri[t] = 1;
-                for (int v : s.mesh().triangles[t]) block[v] = 0;
-            }
+        const std::vector<char> block = outside_piece(s, cut.label, body);
+        std::vector<char> tri(cut.label.size(), 0);
+        for (size_t t = 0; t < cut.label.size(); ++t) tri[t] = cut.label[t] == body;
         auto distance_from = [&](const std::vector<int>& vertices) {
             PathSearch q;
             q.blocked = &block;
