@@ -257,26 +257,29 @@ TEST(QuadLayoutRelax, RejectsNegativeSweeps) {
     EXPECT_NE(bad.validate(), "");
 }
 
-// S-cycles from the handle loops (experimental option): on plates of genus 2..4 the new
-// construction is used (no fall-back to Algorithm 1's S-cycles) and the layout passes the verifier.
-// Genus 5 (the plate, and botijo) still falls back: the third body annulus finds no loop.
+// S-cycles from the handle loops (the default): on plates of genus 2..5 the construction is used
+// (no fall-back to Algorithm 1's S-cycles) and the layout passes the verifier; with the option off,
+// Algorithm 1's S-cycles are used and the layout passes too.
 TEST(QuadLayoutHandleLoopSCycles, PlatesUseThemAndVerify) {
-    for (int g = 2; g <= 4; ++g) {
-        SCOPED_TRACE("genus " + std::to_string(g));
-        const Mesh input = plate(g);
-        layout::QuadLayoutOptions o;
-        o.s_cycles_from_handle_loops = true;
-        std::vector<std::string> said;
-        o.progress = [&said](const std::string& m) { said.push_back(m); };
-        const QuadLayout L = build_quad_layout(input, o);
-        expect_valid_layout(L, input, g);
-        EXPECT_EQ(L.s_cycles.size(), static_cast<size_t>(4 * g - 4));
-        const auto says = [&said](const std::string& part) {
-            return std::any_of(said.begin(), said.end(),
-                               [&part](const std::string& m) { return m.find(part) != std::string::npos; });
-        };
-        EXPECT_TRUE(says("handle annulus"));
-        EXPECT_FALSE(says("Algorithm 1's instead"));
+    for (int g = 2; g <= 5; ++g) {
+        for (const bool from_handle_loops : {true, false}) {
+            SCOPED_TRACE("genus " + std::to_string(g) + (from_handle_loops ? ", handle loops" : ", Algorithm 1"));
+            const Mesh input = plate(g);
+            layout::QuadLayoutOptions o;
+            EXPECT_TRUE(o.s_cycles_from_handle_loops);  // the default
+            o.s_cycles_from_handle_loops = from_handle_loops;
+            std::vector<std::string> said;
+            o.progress = [&said](const std::string& m) { said.push_back(m); };
+            const QuadLayout L = build_quad_layout(input, o);
+            expect_valid_layout(L, input, g);
+            EXPECT_EQ(L.s_cycles.size(), static_cast<size_t>(4 * g - 4));
+            const auto says = [&said](const std::string& part) {
+                return std::any_of(said.begin(), said.end(),
+                                   [&part](const std::string& m) { return m.find(part) != std::string::npos; });
+            };
+            EXPECT_EQ(says("handle annulus"), from_handle_loops);
+            EXPECT_FALSE(says("Algorithm 1's instead"));
+        }
     }
 }
 

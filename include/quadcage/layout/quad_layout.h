@@ -19,14 +19,13 @@ using UV = std::array<double, 2>;
 /// Options for build_quad_layout().
 struct QuadLayoutOptions {
     OrthogonalSystemOptions cycles;  ///< For the orthogonal system the layout starts from (g >= 1).
-    /// g >= 2, experimental: S-cycles from the handle loops (two parallel to each, the rest between
-    /// T-shirts cut off the body one at a time) instead of Algorithm 1's, which each cross the
-    /// orthogonal system once and on a body with handles wind round it in stacks. Falls back to
-    /// Algorithm 1's when a curve cannot be placed. Off by default: it takes fertility's level-3
-    /// fit from RMS 1.9e-3, Hausdorff 2.6e-2 to 6.0e-4, 1.3e-2, but botijo and the genus-5 plate
-    /// fall back (the third body annulus finds no loop), and skull's and 3holes' fits get a little
-    /// worse (still within #5's targets).
-    bool s_cycles_from_handle_loops = false;
+    /// g >= 2: S-cycles from the handle loops (two parallel to each; the rest between T-shirts cut
+    /// off the body one at a time, in an order that keeps holes close together on one side of every
+    /// cut) instead of Algorithm 1's, which each cross the orthogonal system once and on a body with
+    /// handles wind round it in stacks. Falls back to Algorithm 1's when a curve cannot be placed
+    /// (plates of genus >= 9 do). Level-3 fits (issue #5): fertility RMS 1.9e-3 -> 2.4e-4,
+    /// Hausdorff 2.6e-2 -> 4.0e-3; botijo RMS 1.55e-3 -> 1.43e-3 but Hausdorff 2.6e-2 -> 3.6e-2.
+    bool s_cycles_from_handle_loops = true;
     int relax_sweeps = 3;  ///< Passes that move every layout edge to the middle of its two patches
                            ///< (0: keep the constructed routes), >= 0.
     int relax_corner_sweeps = 2;  ///< The first this many of those passes first move every corner
