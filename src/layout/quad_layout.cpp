@@ -184,15 +184,20 @@ std::optional<std::vector<int>> route_ring(Builder& b, const std::vector<int>& s
     return arcs;
 }
 
+// Distances from `vertices` along mesh edges, entering no vertex marked in `block`.
+std::vector<double> distances_from(const Surface& s, const std::vector<char>& block, const std::vector<int>& vertices) {
+    PathSearch q;
+    q.blocked = &block;
+    for (int v : vertices) q.sources.push_back({v, 0.0});
+    return detail::dijkstra(s, q).distance;
+}
+
 // Distances inside `piece` from the vertices of closed curve `from_curve`, crossing no S-cycle.
 std::vector<double> hole_distances(const Builder& b, const std::vector<int>& label, int piece, int from_curve,
                                    const std::vector<char>& on_s) {
     std::vector<char> block = outside_piece(b.s_, label, piece);
     for (size_t v = 0; v < block.size(); ++v) block[v] = block[v] || on_s[v];
-    PathSearch q;
-    q.blocked = &block;
-    for (int v : b.curves_[from_curve]) q.sources.push_back({v, 0.0});
-    return detail::dijkstra(b.s_, q).distance;
+    return distances_from(b.s_, block, b.curves_[from_curve]);
 }
 
 // reach[k][m][i]: distance inside `piece` from vertex i of hole k, leaving through the piece's side,
@@ -482,12 +487,7 @@ std::optional<BodyCut> cut_tshirt(Builder w, std::vector<int> ids, int last, con
         const std::vector<char> block = outside_piece(s, cut.label, body);
         std::vector<char> tri(cut.label.size(), 0);
         for (size_t t = 0; t < cut.label.size(); ++t) tri[t] = cut.label[t] == body;
-        auto distance_from = [&](const std::vector<int>& vertices) {
-            PathSearch q;
-            q.blocked = &block;
-            for (int v : vertices) q.sources.push_back({v, 0.0});
-            return detail::dijkstra(s, q).distance;
-        };
+        auto distance_from = [&](const std::vector<int>& vertices) { return distances_from(s, block, vertices); };
         std::vector<Cycle> joins;  // the trees' paths: chords between them are split for room
         auto join = [&](const std::vector<int>& curves, const std::vector<char>& avoid,
                         const std::vector<double>& shun) -> std::optional<std::vector<int>> {
@@ -558,11 +558,9 @@ std::optional<BodyCut> cut_tshirt(Builder w, std::vector<int> ids, int last, con
         for (const double f : {1.0, 0.6, 0.35, 0.2}) {
             BodyCut out{w, ids};
             Builder& trial = out.b;
-            std::vector<char> wall = off_c;  // C's tree
-            for (int v : d_vertices) wall[v] = 1;  // and D's
-            for (size_t c = 0; c < trial.curves_.size(); ++c)
-                if (trial.obstacle_[c])
-                    for (int v : trial.curves_[c]) wall[v] = 1;
+            std::vector<char> wall = trial.blocked();  // obstacle curves, C's tree and D's
+            for (size_t v = 0; v < wall.size(); ++v) wall[v] = wall[v] || off_c[v];
+            for (int v : d_vertices) wall[v] = 1;
             const Cycle inner = level_loop(trial, u, f * lo0, 1.0, kInf, cut_path, wall);
             if (inner.empty()) continue;
             for (int v : inner) wall[v] = 1;
@@ -770,13 +768,12 @@ std::optional<std::vector<int>> tube_s_cycles(Builder& b, const std::vector<int>
         std::vector<int> holes;
         for (const Hole& h : cut.holes.at(body)) holes.push_back(h.curve);
         const int n = static_cast<int>(holes.size());
-        auto hole_gaps = [&] {  // distances in the body between holes
-            std::vector<std::vector<double>> gap(n, std::vector<double>(n, kInf));
+        std::vector<std::vector<double>> gap;  // distances in the body between holes, when first needed
+        auto hole_gaps = [&]() -> const std::vector<std::vector<double>>& {
+            if (!gap.empty()) return gap;
+            gap.assign(n, std::vector<double>(n, kInf));
             for (int i = 0; i < n; ++i) {
-                PathSearch q;
-                q.blocked = &block;
-                for (int v : w.curves_[holes[i]]) q.sources.push_back({v, 0.0});
-                const std::vector<double> d = detail::dijkstra(s, q).distance;
+                const std::vector<double> d = distances_from(s, block, w.curves_[holes[i]]);
                 for (int j = 0; j < n; ++j)
                     for (int v : w.curves_[holes[j]]) gap[i][j] = std::min(gap[i][j], d[v]);
             }
