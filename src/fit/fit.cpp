@@ -362,8 +362,9 @@ LevelReport fit_level(const Context& ctx, const LevelTopology& topo, subdiv::Lim
     const std::vector<Combo> laplacian = laplacian_rows(topo);
     const std::vector<subdiv::FacePoint> s_params = surface_samples(surface.num_faces(), o.surface_samples_per_face);
     const int nd = static_cast<int>(state.data.size()), ns = static_cast<int>(s_params.size());
-    // Ceres minimises 1/2 sum |r|^2: weight 1/N per data point, beta/N per surface sample,
-    // lambda/N per control point, so the terms' sizes do not depend on the sample counts.
+    // Ceres minimises 1/2 sum |r|^2: weight 1/N per data point, beta/N per surface sample on
+    // average (each is weighted by its share of the surface area), lambda/N per control point, so
+    // the terms' sizes do not depend on the sample counts.
     const double data_weight = 1.0 / std::max(nd, 1), surface_weight = o.surface_to_input_weight / std::max(ns, 1);
     const double delta2 = std::pow(o.huber_scale * ctx.diagonal, 2);
 
@@ -392,6 +393,7 @@ LevelReport fit_level(const Context& ctx, const LevelTopology& topo, subdiv::Lim
         clock = Clock::now();
         std::vector<Combo> data_combo(nd), surf_combo(ns);
         std::vector<Vec3> surf_pos(ns), data_pos(nd), data_normal(nd);
+        std::vector<double> surf_weight(ns);
         parallel_for(nd, ctx.threads, [&](int i) {
             const subdiv::LimitStencil s = surface.stencil(state.data[i].c);
             data_combo[i] = topo.compose(s.indices, s.position_weights);
@@ -406,8 +408,17 @@ LevelReport fit_level(const Context& ctx, const LevelTopology& topo, subdiv::Lim
         parallel_for(ns, ctx.threads, [&](int i) {
             const subdiv::LimitStencil s = surface.stencil(s_params[i]);
             surf_combo[i] = topo.compose(s.indices, s.position_weights);
-            surf_pos[i] = limit_point(surface, s).position;
+            const subdiv::LimitPoint e = limit_point(surface, s);
+            surf_pos[i] = e.position;
+            surf_weight[i] = norm(cross(e.du, e.dv));
         });
+        // Each surface sample stands for the limit-surface area around it (|S_u x S_v| times the
+        // same parametric cell), so the surface-to-input term integrates over the surface's area as
+        // design.md §6 measures it. With equal weights a stretched part of the surface (a fin
+        // pulled out between two parts of the input) counted as little as any other face.
+        double area_sum = 0;
+        for (double a : surf_weight) area_sum += a;
+        for (double& a : surf_weight) a = area_sum > 0 ? surface_weight * ns * a / area_sum : surface_weight;
         sec.evaluation += seconds_since(clock);
 
         clock = Clock::now();
@@ -474,7 +485,7 @@ LevelReport fit_level(const Context& ctx, const LevelTopology& topo, subdiv::Lim
                 if (!(len > 0)) continue;
                 n = n / len;
                 split(surf_combo[i], &w);
-                add(surf_combo[i], detail::point_to_plane_rows(w, hits[i].point, n, 1.0), surf_pos[i], surface_weight);
+                add(surf_combo[i], detail::point_to_plane_rows(w, hits[i].point, n, 1.0), surf_pos[i], surf_weight[i]);
             }
         for (size_t g = 0; g < groups.size(); ++g) {
             blocks.clear();
@@ -633,12 +644,17 @@ FitResult fit_surface(const layout::QuadLayout& layout, const FitOptions& option
         rep = fit_level(ctx, topo, *surface, state);
         detail::MeasureTimes mt;
         ErrorMeasurement m = detail::measure(layout.mesh, index, *surface, level, ctx.measure_options(), &mt);
-        if (level > first && m.relative.rms > result.levels.back().relative.rms) {
+        const auto no_worse = [&](const ErrorMeasurement& e) {
+            const FitError& prev = result.levels.back().relative;
+            return e.relative.rms <= prev.rms && e.relative.hausdorff <= prev.hausdorff;
+        };
+        if (level > first && !no_worse(m)) {
             // Tolerance mode: the parametric start is fitted first because a coarse level can be
             // degenerate (the limit of the 2 x 2 torus cage folds onto itself) and its refinement a
-            // poor start. When that fit measures worse than the previous level, fit again from the
-            // previous fit refined once (the same surface, so it starts at the previous error) and
-            // keep the better of the two.
+            // poor start. When that fit measures worse than the previous level (RMS or Hausdorff),
+            // fit again from the previous fit refined once (the same surface, so it starts at the
+            // previous error) and keep the one no worse than the previous level in both, else the
+            // one with the smaller RMS.
             ctx.progress("level " + std::to_string(level) + ": worse than level " + std::to_string(level - 1) +
                          ", fitting again from the refined previous fit");
             const LevelState parametric_fit = state;
@@ -647,7 +663,7 @@ FitResult fit_surface(const layout::QuadLayout& layout, const FitOptions& option
             warm_rep.seconds.evaluation += rep.seconds.evaluation;
             warm_rep.seconds.closest_points += rep.seconds.closest_points;
             warm_rep.seconds.solve += rep.seconds.solve;
-            if (mw.relative.rms <= m.relative.rms) {
+            if (no_worse(mw) != no_worse(m) ? no_worse(mw) : mw.relative.rms <= m.relative.rms) {
                 rep = warm_rep;
                 state = std::move(warm);
                 m = mw;

@@ -54,8 +54,9 @@ struct FitOptions {
                                  ///< the mesh vertices), >= 0.
     int max_data_points = 400000;  ///< Cap on data points (vertices + samples); vertices are subsampled
                                    ///< deterministically above it. >= 1.
-    int surface_samples_per_face = 9;  ///< Limit-surface samples per control face for the
-                                       ///< surface-to-input term (a k x k grid, k = ceil(sqrt)), >= 1.
+    int surface_samples_per_face = 16;  ///< Limit-surface samples per control face for the
+                                        ///< surface-to-input term (a k x k grid, k = ceil(sqrt)), >= 1;
+                                        ///< each weighted by the surface area it stands for.
     int error_samples = 100000;  ///< Area samples per side when measuring the error (design.md §6), >= 1.
     bool measure_unfitted = false;  ///< Also measure the error with the control points at their
                                     ///< parametric positions (LevelReport::unfitted_*).
