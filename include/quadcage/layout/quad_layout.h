@@ -23,8 +23,9 @@ struct QuadLayoutOptions {
     /// off the body one at a time, in an order that keeps holes close together on one side of every
     /// cut) instead of Algorithm 1's, which each cross the orthogonal system once and on a body with
     /// handles wind round it in stacks. Falls back to Algorithm 1's when a curve cannot be placed
-    /// (plates of genus >= 9 do). Level-3 fits (issue #5): fertility RMS 1.9e-3 -> 2.4e-4,
-    /// Hausdorff 2.6e-2 -> 4.0e-3; botijo RMS 1.55e-3 -> 1.43e-3 but Hausdorff 2.6e-2 -> 3.6e-2.
+    /// (plates of genus >= 9 do). Level-3 fits (issue #5, with the fit as it was at 1fc0e13):
+    /// fertility RMS 1.9e-3 -> 2.4e-4, Hausdorff 2.6e-2 -> 4.0e-3; botijo RMS 1.55e-3 -> 1.43e-3 but
+    /// Hausdorff 2.6e-2 -> 3.6e-2. The README has the current figures.
     bool s_cycles_from_handle_loops = true;
     int relax_sweeps = 3;  ///< Passes that move every layout edge to the middle of its two patches
                            ///< (0: keep the constructed routes), >= 0.

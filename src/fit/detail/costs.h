@@ -23,9 +23,10 @@ struct StencilRows {
 };
 
 /// Several StencilRows over the same parameter blocks (one per weight, the same in every member),
-/// stacked into one residual block (the factories below make blocks of one). Data points and surface samples on the same control face share
-/// their stencil's control points; as one block each, Ceres builds the structure of J^T J from
-/// (faces x stencil size^2) products instead of (points x stencil size^2).
+/// stacked into one residual block (the factories below make blocks of one). Data points and
+/// surface samples on the same control face share their stencil's control points; as one block
+/// each, Ceres builds the structure of J^T J from (faces x stencil size^2) products instead of
+/// (points x stencil size^2).
 class StencilGroupCost final : public ceres::CostFunction {
 public:
     explicit StencilGroupCost(std::vector<StencilRows> members);
