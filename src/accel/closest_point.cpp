@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstdint>
 #include <exception>
 #include <limits>
 #include <stdexcept>
@@ -180,6 +181,54 @@ bool point_query_callback(RTCPointQueryFunctionArguments* args) {
     return false;
 }
 
+/// The closest point of the mesh to p, given that it lies within `bound` of p (infinity: no bound).
+/// The bound only prunes the search: the answer is the same as without it.
+ClosestHit closest(const IndexData& im, const Vec3& p, double bound) {
+    QueryState s;
+    s.data = &im;
+    s.p = p - im.centre;
+    const Vec3 q = s.p * im.scale;
+    const double qmax = std::max({std::abs(q.x), std::abs(q.y), std::abs(q.z)});
+    if (qmax <= kMaxEmbreeCoordinate) {
+        s.slack = kRadiusSlack * (1.0 + qmax);
+        RTCPointQuery query;
+        query.x = static_cast<float>(q.x);
+        query.y = static_cast<float>(q.y);
+        query.z = static_cast<float>(q.z);
+        query.time = 0.0f;
+        // The same slack as the callback's shrinking radius, so the bound prunes no triangle that
+        // is closer in double precision.
+        query.radius = std::numeric_limits<float>::infinity();
+        const double r = bound * im.scale + s.slack;
+        if (std::isfinite(r) && r < 1e30)
+            query.radius = std::nextafter(static_cast<float>(r), std::numeric_limits<float>::infinity());
+        RTCPointQueryContext context;
+        rtcInitPointQueryContext(&context);
+        rtcPointQuery(im.scene, &query, &context, point_query_callback, &s);
+    } else {
+        for (int t = 0; t < static_cast<int>(im.triangles.size()); ++t) offer_triangle(s, t);
+    }
+    QC_CHECK(s.best_triangle >= 0, "Embree point query visited no triangle");
+
+    ClosestHit hit;
+    hit.triangle = s.best_triangle;
+    hit.point = s.best.point + im.centre;
+    hit.barycentric = s.best.bary;
+    hit.distance = std::sqrt(s.best_d2);
+    return hit;
+}
+
+/// Interleaves the low 21 bits of x with two zero bits after each (for a 63-bit Morton code).
+uint64_t spread_bits(uint64_t x) {
+    x &= 0x1fffff;
+    x = (x | x << 32) & 0x1f00000000ffffULL;
+    x = (x | x << 16) & 0x1f0000ff0000ffULL;
+    x = (x | x << 8) & 0x100f00f00f00f00fULL;
+    x = (x | x << 4) & 0x10c30c30c30c30c3ULL;
+    x = (x | x << 2) & 0x1249249249249249ULL;
+    return x;
+}
+
 }  // namespace
 
 struct ClosestPointIndex::Impl : IndexData {};
@@ -217,11 +266,11 @@ ClosestPointIndex::ClosestPointIndex(const Mesh& mesh) : impl_(std::make_unique<
     if (!im.device) throw_embree_error(nullptr, "rtcNewDevice");
     im.scene = rtcNewScene(im.device);
     check_embree(im.device, "rtcNewScene");
-    rtcSetSceneBuildQuality(im.scene, RTC_BUILD_QUALITY_HIGH);
+    rtcSetSceneBuildQuality(im.scene, RTC_BUILD_QUALITY_MEDIUM);
 
     RTCGeometry geom = rtcNewGeometry(im.device, RTC_GEOMETRY_TYPE_TRIANGLE);
     check_embree(im.device, "rtcNewGeometry");
-    rtcSetGeometryBuildQuality(geom, RTC_BUILD_QUALITY_HIGH);
+    rtcSetGeometryBuildQuality(geom, RTC_BUILD_QUALITY_MEDIUM);
     auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(
         geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), nv));
     auto* ib = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
@@ -254,35 +303,7 @@ int ClosestPointIndex::num_triangles() const {
 ClosestHit ClosestPointIndex::query(const Vec3& p) const {
     QC_CHECK(impl_ != nullptr, "use of a moved-from ClosestPointIndex");
     if (!is_finite(p)) throw InvalidInput("closest-point query: the query point is not finite");
-    const Impl& im = *impl_;
-
-    QueryState s;
-    s.data = &im;
-    s.p = p - im.centre;
-    const Vec3 q = s.p * im.scale;
-    const double qmax = std::max({std::abs(q.x), std::abs(q.y), std::abs(q.z)});
-    if (qmax <= kMaxEmbreeCoordinate) {
-        s.slack = kRadiusSlack * (1.0 + qmax);
-        RTCPointQuery query;
-        query.x = static_cast<float>(q.x);
-        query.y = static_cast<float>(q.y);
-        query.z = static_cast<float>(q.z);
-        query.time = 0.0f;
-        query.radius = std::numeric_limits<float>::infinity();
-        RTCPointQueryContext context;
-        rtcInitPointQueryContext(&context);
-        rtcPointQuery(im.scene, &query, &context, point_query_callback, &s);
-    } else {
-        for (int t = 0; t < static_cast<int>(im.triangles.size()); ++t) offer_triangle(s, t);
-    }
-    QC_CHECK(s.best_triangle >= 0, "Embree point query visited no triangle");
-
-    ClosestHit hit;
-    hit.triangle = s.best_triangle;
-    hit.point = s.best.point + im.centre;
-    hit.barycentric = s.best.bary;
-    hit.distance = std::sqrt(s.best_d2);
-    return hit;
+    return closest(*impl_, p, std::numeric_limits<double>::infinity());
 }
 
 std::vector<ClosestHit> ClosestPointIndex::query_all(const std::vector<Vec3>& points,
@@ -295,6 +316,23 @@ std::vector<ClosestHit> ClosestPointIndex::query_all(const std::vector<Vec3>& po
         if (!is_finite(points[i]))
             throw InvalidInput("closest-point query_all: query point " + std::to_string(i) +
                                " is not finite");
+
+    // Points are answered in Morton order, each with the bound |p - p'| + d(p') from the point p'
+    // answered before it in its block (the closest point of p' is that close to p): near points
+    // give a small bound, and a small search sphere prunes most of the BVH. The bound does not
+    // change any answer.
+    const Impl& im = *impl_;
+    std::vector<std::pair<uint64_t, uint32_t>> order(points.size());
+    for (size_t i = 0; i < points.size(); ++i) {
+        const Vec3 q = (points[i] - im.centre) * im.scale;
+        uint64_t code = 0;
+        for (int k = 0; k < 3; ++k) {
+            const double unit = std::clamp((q[k] + 1.0) * 0.5, 0.0, 1.0);
+            code |= spread_bits(static_cast<uint64_t>(unit * 2097151.0)) << k;
+        }
+        order[i] = {code, static_cast<uint32_t>(i)};
+    }
+    std::sort(order.begin(), order.end());
 
     std::vector<ClosestHit> hits(points.size());
     constexpr size_t kBlock = 256;
@@ -314,7 +352,16 @@ std::vector<ClosestHit> ClosestPointIndex::query_all(const std::vector<Vec3>& po
                 const size_t b = next_block++;
                 if (b >= num_blocks) break;
                 const size_t end = std::min(points.size(), (b + 1) * kBlock);
-                for (size_t i = b * kBlock; i < end; ++i) hits[i] = query(points[i]);
+                const Vec3* prev = nullptr;
+                double prev_distance = 0;
+                for (size_t k = b * kBlock; k < end; ++k) {
+                    const size_t i = order[k].second;
+                    const double bound = prev ? norm(points[i] - *prev) + prev_distance
+                                              : std::numeric_limits<double>::infinity();
+                    hits[i] = closest(im, points[i], bound);
+                    prev = &points[i];
+                    prev_distance = hits[i].distance;
+                }
             }
         } catch (...) {
             if (!failed.exchange(true)) error = std::current_exception();
