@@ -238,6 +238,9 @@ FacePoint LimitSurface::project(const Vec3& q, const FacePoint& start, int itera
         if (!(det > 0)) break;
         double du = ((a22 + damp) * b1 - a12 * b2) / det;
         double dv = ((a11 + damp) * b2 - a12 * b1) / det;
+        // Converged when the step would move the foot by a tiny fraction of its distance to q (the
+        // distance then changes by the square of that fraction) or of the patch's size.
+        if (norm(e.du * du + e.dv * dv) <= 1e-3 * std::sqrt(best) + 1e-12 * (norm(e.du) + norm(e.dv))) break;
         // Stay local: at most half a face per step.
         const double len = std::hypot(du, dv);
         if (len > 0.5) du *= 0.5 / len, dv *= 0.5 / len;
