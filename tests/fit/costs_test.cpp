@@ -2,6 +2,7 @@
 
 #include "detail/costs.h"
 
+#include <Eigen/Dense>
 #include <ceres/gradient_checker.h>
 #include <gtest/gtest.h>
 
@@ -151,6 +152,84 @@ TEST(FitCosts, ResidualsHaveTheirMeaning) {
     ASSERT_TRUE(p2l->Evaluate(params, r, nullptr));
     EXPECT_DOUBLE_EQ(r[0], 6.0);  // 2 * (3 - 0)
     EXPECT_EQ(p2l->num_residuals(), 1);
+}
+
+// A tall group: `count` members (all three kinds) over the blocks of `probe`.
+std::vector<StencilRows> tall_group(const Probe& probe, int count, unsigned seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> uni(-1.0, 1.0);
+    std::vector<StencilRows> members;
+    for (int k = 0; k < count; ++k) {
+        std::vector<double> w(probe.weights.size());
+        for (double& x : w) x = uni(rng);
+        const Vec3 p{uni(rng), uni(rng), uni(rng)};
+        const Vec3 n = Vec3{uni(rng), uni(rng), 1.0} / norm(Vec3{uni(rng), uni(rng), 1.0});
+        if (k % 3 == 0) members.push_back(point_to_point_rows(w, p, 1.5));
+        else if (k % 3 == 1) members.push_back(tangent_weighted_rows(w, p, n / norm(n), 0.02, 0.7));
+        else members.push_back(point_to_plane_rows(w, p, n / norm(n), 2.0));
+    }
+    return members;
+}
+
+// Residuals r and Jacobian J (rows x 3 blocks, dense) of a cost at the probe's points.
+void evaluate_dense(const ceres::CostFunction& cost, const Probe& probe, Eigen::VectorXd* r, Eigen::MatrixXd* j) {
+    const int rows = cost.num_residuals(), blocks = static_cast<int>(probe.points.size());
+    std::vector<const double*> params;
+    for (const auto& p : probe.points) params.push_back(p.data());
+    std::vector<std::vector<double>> jac(blocks, std::vector<double>(3 * rows));
+    std::vector<double*> jac_ptr;
+    for (auto& b : jac) jac_ptr.push_back(b.data());
+    r->resize(rows);
+    ASSERT_TRUE(cost.Evaluate(params.data(), r->data(), jac_ptr.data()));
+    j->resize(rows, 3 * blocks);
+    for (int b = 0; b < blocks; ++b)
+        for (int row = 0; row < rows; ++row)
+            for (int d = 0; d < 3; ++d) (*j)(row, 3 * b + d) = jac[b][3 * row + d];
+}
+
+TEST(FitCosts, CompressedGroupGradient) {
+    const Probe p = random_probe(16, 71, false);
+    const std::vector<StencilRows> members = tall_group(p, 40, 72);
+    EXPECT_EQ(StencilGroupCost(members).num_residuals(), 94);
+    const std::unique_ptr<ceres::CostFunction> cost = compressed_group_cost(members);
+    ASSERT_NE(cost, nullptr);
+    EXPECT_EQ(cost->num_residuals(), 48);  // 16 blocks of 3
+    std::string log;
+    EXPECT_TRUE(gradient_ok(*cost, p, &log)) << log;
+}
+
+TEST(FitCosts, CompressedGroupTakesTheSameSteps) {
+    // Same J^T J and J^T r at any point, so the same Gauss-Newton / Levenberg-Marquardt step; the
+    // sums of squares differ by the same constant everywhere.
+    const Probe at = random_probe(6, 81, false), elsewhere = random_probe(6, 82, false);
+    const std::vector<StencilRows> members = tall_group(at, 30, 83);
+    const StencilGroupCost full(members);
+    const std::unique_ptr<ceres::CostFunction> small = compressed_group_cost(members);
+    ASSERT_NE(small, nullptr);
+    EXPECT_LT(small->num_residuals(), full.num_residuals());
+    double offset[2];
+    int k = 0;
+    for (const Probe* probe : {&at, &elsewhere}) {
+        Eigen::VectorXd rf, rs;
+        Eigen::MatrixXd jf, js;
+        evaluate_dense(full, *probe, &rf, &jf);
+        evaluate_dense(*small, *probe, &rs, &js);
+        const Eigen::MatrixXd nf = jf.transpose() * jf, ns = js.transpose() * js;
+        EXPECT_LT((nf - ns).cwiseAbs().maxCoeff(), 1e-10 * nf.cwiseAbs().maxCoeff());
+        const Eigen::VectorXd gf = jf.transpose() * rf, gs = js.transpose() * rs;
+        EXPECT_LT((gf - gs).cwiseAbs().maxCoeff(), 1e-10 * (1 + gf.cwiseAbs().maxCoeff()));
+        offset[k++] = rf.squaredNorm() - rs.squaredNorm();
+    }
+    EXPECT_GT(offset[0], 0);
+    EXPECT_NEAR(offset[0], offset[1], 1e-9 * offset[0]);
+}
+
+TEST(FitCosts, CompressedGroupRefusesASingularGroup) {
+    // Block 2 has weight 0 in every member: J^T J is singular and the group stays as it is.
+    const Probe p = random_probe(3, 91, false);
+    std::vector<StencilRows> members = tall_group(p, 10, 92);
+    for (StencilRows& m : members) m.weights[2] = 0;
+    EXPECT_EQ(compressed_group_cost(members), nullptr);
 }
 
 // The checker itself must catch a wrong Jacobian, or the tests above prove nothing.

@@ -1,5 +1,7 @@
 #include "detail/costs.h"
 
+#include <Eigen/Dense>
+
 #include <cmath>
 
 #include "quadcage/core/errors.h"
@@ -38,6 +40,66 @@ bool StencilGroupCost::Evaluate(double const* const* parameters, double* residua
         row += m.rows;
     }
     return true;
+}
+
+namespace {
+
+/// r = M x - d over parameter blocks of size 3 (M: rows x 3 blocks, column-major).
+class DenseAffineCost final : public ceres::CostFunction {
+public:
+    DenseAffineCost(Eigen::MatrixXd m, Eigen::VectorXd d) : m_(std::move(m)), d_(std::move(d)) {
+        set_num_residuals(static_cast<int>(m_.rows()));
+        mutable_parameter_block_sizes()->assign(m_.cols() / 3, 3);
+    }
+    bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
+        const Eigen::Index blocks = m_.cols() / 3;
+        Eigen::Map<Eigen::VectorXd> r(residuals, m_.rows());
+        r = -d_;
+        for (Eigen::Index i = 0; i < blocks; ++i)
+            r.noalias() += m_.middleCols<3>(3 * i) * Eigen::Map<const Eigen::Vector3d>(parameters[i]);
+        if (jacobians)
+            for (Eigen::Index i = 0; i < blocks; ++i)
+                if (jacobians[i])
+                    Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>>(jacobians[i], m_.rows(), 3) =
+                        m_.middleCols<3>(3 * i);
+        return true;
+    }
+
+private:
+    Eigen::MatrixXd m_;
+    Eigen::VectorXd d_;
+};
+
+}  // namespace
+
+std::unique_ptr<ceres::CostFunction> compressed_group_cost(const std::vector<StencilRows>& members) {
+    QC_CHECK(!members.empty(), "compressed_group_cost: no members");
+    const Eigen::Index blocks = static_cast<Eigen::Index>(members.front().weights.size()), cols = 3 * blocks;
+    Eigen::Index rows = 0;
+    for (const StencilRows& m : members) {
+        QC_CHECK(m.weights.size() == members.front().weights.size(), "compressed_group_cost: members differ");
+        rows += m.rows;
+    }
+    // J: row r of a member is a_r (1 x 3) times the stencil weight of each block.
+    Eigen::MatrixXd j(rows, cols);
+    Eigen::VectorXd b(rows);
+    Eigen::Index row = 0;
+    for (const StencilRows& m : members)
+        for (int r = 0; r < m.rows; ++r, ++row) {
+            for (Eigen::Index i = 0; i < blocks; ++i)
+                for (int d = 0; d < 3; ++d) j(row, 3 * i + d) = m.weights[i] * m.a[3 * r + d];
+            b(row) = m.b[r];
+        }
+    Eigen::MatrixXd normal = Eigen::MatrixXd::Zero(cols, cols);
+    normal.selfadjointView<Eigen::Lower>().rankUpdate(j.transpose());
+    const Eigen::LLT<Eigen::MatrixXd> llt(normal);
+    if (llt.info() != Eigen::Success) return nullptr;
+    Eigen::MatrixXd r = llt.matrixU();
+    // Positive definite in floating point is not enough: a tiny pivot would make d huge.
+    const double largest = r.diagonal().cwiseAbs().maxCoeff(), smallest = r.diagonal().cwiseAbs().minCoeff();
+    if (!(smallest > 1e-7 * largest)) return nullptr;
+    Eigen::VectorXd d = llt.matrixL().solve(j.transpose() * b);
+    return std::make_unique<DenseAffineCost>(std::move(r), std::move(d));
 }
 
 StencilRows point_to_point_rows(std::vector<double> weights, const Vec3& p, double scale) {

@@ -8,6 +8,7 @@
 #include <ceres/cost_function.h>
 
 #include <array>
+#include <memory>
 #include <vector>
 
 #include "quadcage/core/mesh.h"
@@ -35,6 +36,15 @@ public:
 private:
     std::vector<StencilRows> members_;
 };
+
+/// The least-squares equivalent of StencilGroupCost(members) in fewer rows, for a group with more
+/// residuals than unknowns: r = R x - d with R (3n x 3n, upper triangular) the Cholesky factor of
+/// J^T J and d = R^-T J^T b, where the group's residuals are J x - b. The sum of squares differs
+/// from the group's by a constant (|b|^2 - |d|^2); the gradient and the Gauss-Newton matrix J^T J
+/// are the same, so a Gauss-Newton or Levenberg-Marquardt step is the same. Ceres forms J^T J of
+/// a block in (rows x columns^2): a face's 60 data rows over its 16 control points become 48.
+/// Null when J^T J is not positive definite (the group is then kept as it is).
+std::unique_ptr<ceres::CostFunction> compressed_group_cost(const std::vector<StencilRows>& members);
 
 /// The residuals of the factories below, as StencilRows (for StencilGroupCost).
 StencilRows point_to_point_rows(std::vector<double> weights, const Vec3& p, double scale);
