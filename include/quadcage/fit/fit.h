@@ -18,10 +18,14 @@ namespace quadcage::fit {
 
 /// What fit_surface() aims for.
 enum class FitMode {
-    Level,      ///< Fit the control points of the cage refined exactly FitOptions::level times.
-    Tolerance,  ///< Fit levels 0, 1, 2, ... until the relative symmetric RMS <= FitOptions::tolerance
-                ///< or FitOptions::max_level is reached; each level starts from the better (by a quick
-                ///< symmetric RMS) of the previous fit refined once and the parametric positions.
+    Level,      ///< Fit the control points of the cage refined exactly FitOptions::level times. The
+                ///< levels from 1 up are fitted in turn, as in Tolerance mode: a level's fit is the
+                ///< one from the parametric positions or, from level 2 on, when that one measures
+                ///< worse than the level before (RMS or Hausdorff), the better of it and one from the
+                ///< previous fit refined. Level 0 is fitted only when asked for.
+    Tolerance,  ///< Fit levels 0, 1, 2, ... (as Level mode does) until the relative symmetric RMS
+                ///< <= FitOptions::tolerance or FitOptions::max_level is reached; stops early when
+                ///< a level measures worse than the one before even from the refined previous fit.
 };
 
 /// Options for fit_surface(). Distances are relative to the bounding-box diagonal of the mesh.
@@ -54,6 +58,9 @@ struct FitOptions {
                                  ///< the mesh vertices), >= 0.
     int max_data_points = 400000;  ///< Cap on data points (vertices + samples); vertices are subsampled
                                    ///< deterministically above it. >= 1.
+    int data_points_per_face = 64;  ///< Cap on the data points of a level: this many per
+                                    ///< limit-surface face (a fixed, evenly spread subset of all
+                                    ///< of them: coarse levels need fewer), >= 0; 0 = no cap.
     int surface_samples_per_face = 16;  ///< Limit-surface samples per control face for the
                                         ///< surface-to-input term (a k x k grid, k = ceil(sqrt)), >= 1;
                                         ///< each weighted by the surface area it stands for.

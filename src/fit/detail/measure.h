@@ -17,6 +17,8 @@ public:
     /// The surface point closest to each of `points` (parallel; deterministic).
     std::vector<subdiv::FacePoint> project(const std::vector<Vec3>& points) const;
     const subdiv::LimitTessellation& tessellation() const { return tessellation_; }
+    /// The Embree index of the tessellation (the seeds of project()).
+    const accel::ClosestPointIndex& index() const { return index_; }
     /// The (face, u, v) of a point given by barycentric weights on a tessellation triangle.
     subdiv::FacePoint param_of(int triangle, const std::array<double, 3>& bary) const;
 
