@@ -60,7 +60,10 @@ int main(int argc, char** argv) {
                "input), deviation.ply (the input with per-vertex distance to the surface) and report.json.\n"
                "Errors are relative to the bounding-box diagonal.");
     add_mesh_output_quiet(fit_cmd, fitopt.mesh, fitopt.output_dir, fitopt.quiet);
-    auto* level_opt = fit_cmd->add_option("--level", fitopt.level, "Refinements of the cage to fit (0 = the 8g-8 corners); default 3")
+    auto* level_opt = fit_cmd->add_option("--level", fitopt.level,
+                                          "Refinements of the cage to fit (0 = the 8g-8 corners); default 3. Levels 1..K are\n"
+                                          "fitted in turn and all reported; from level 2 on, a level that measures worse than\n"
+                                          "the one before is fitted again from the previous fit refined")
         ->check(CLI::Range(0, 7));
     fit_cmd->add_option("--tolerance", fitopt.tolerance,
                         "Fit levels 0, 1, 2, ... until the relative symmetric RMS error <= T (or --max-level)")
