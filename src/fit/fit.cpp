@@ -674,7 +674,7 @@ FitResult fit_surface(const layout::QuadLayout& layout, const FitOptions& option
         parametric_state.vars = parametric;
         LevelState warm;
         bool warm_new_points = false;
-        if (level > first && level >= 2) {
+        if (level >= 2) {
             // The previous fit, refined: the same limit surface on the new control mesh, with the
             // previous feet one level down (the same surface points). Data points new at this
             // level start at their patch coordinates and are projected before the fit.
@@ -730,7 +730,7 @@ FitResult fit_surface(const layout::QuadLayout& layout, const FitOptions& option
         ErrorMeasurement m;
         state = std::move(parametric_state);
         rep = run(state, false, &m);
-        if (level > first && level >= 2 && !no_worse(m)) {
+        if (level >= 2 && !no_worse(m)) {
             // The parametric start comes first because a coarse level can be degenerate (the limit
             // of the 2 x 2 torus cage folds onto itself) and its refinement a poor start; finer
             // levels, too, mostly end better from it. When that fit measures worse than the
@@ -769,9 +769,10 @@ FitResult fit_surface(const layout::QuadLayout& layout, const FitOptions& option
                      " control points, " + format("relative rms %.3e, hausdorff %.3e, %.2f s", m.relative.rms,
                                                   m.relative.hausdorff, rep.seconds.total));
         if (options.mode == FitMode::Tolerance && level > first && m.relative.rms > result.levels.back().relative.rms) {
-            // Even from the previous fit the finer level measures worse: the fit has reached the
-            // resolution of the input (more control points follow its facets). Going on cannot help.
-            // (Level mode goes on to the level asked for and reports what it measures.)
+            // Even from the previous fit (level 1: from its parametric start) the finer level
+            // measures worse: the fit has reached the resolution of the input (more control points
+            // follow its facets). Going on cannot help. (Level mode goes on to the level asked for
+            // and reports what it measures.)
             result.rejected_level = rep;
             ctx.progress("level " + std::to_string(level) + " measures worse than level " + std::to_string(level - 1) +
                          "; keeping level " + std::to_string(level - 1));

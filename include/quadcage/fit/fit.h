@@ -25,7 +25,7 @@ enum class FitMode {
                 ///< previous fit refined. Level 0 is fitted only when asked for.
     Tolerance,  ///< Fit levels 0, 1, 2, ... (as Level mode does) until the relative symmetric RMS
                 ///< <= FitOptions::tolerance or FitOptions::max_level is reached; stops early when
-                ///< a level measures worse than the one before even from the refined previous fit.
+                ///< a level's RMS is worse than the one before's (from level 2: from both starts).
 };
 
 /// Options for fit_surface(). Distances are relative to the bounding-box diagonal of the mesh.
