@@ -729,9 +729,10 @@ std::vector<std::vector<int>> tshirt_choices(const std::vector<std::vector<doubl
 
 // S-cycles from the handle loops (an alternative to Algorithm 1 that gives the same pieces):
 // each handle loop a_i becomes a handle (annulus) between two parallel S-cycles; the rest, a
-// sphere with 2g holes, is cut into g-1 T-shirts by g-2 more annuli (cut_tshirt), each T-shirt
-// taking holes near each other (the first) or the last annulus and two holes near it; of a few
-// such choices the one with the shortest S-cycles is kept. Areas aim at an even share per quad
+// sphere with 2g holes, is cut into g-1 T-shirts by g-2 more annuli (cut_tshirt), the T-shirts
+// taking the holes in the order of tshirt_plan(); once a cut of the plan fails, each T-shirt takes
+// the first of a few compact choices (tshirt_choices(): holes near each other for the first, else
+// the last annulus and two holes near it) that cuts. Areas aim at an even share per quad
 // (a handle 2, a T-shirt 6). Algorithm 1's S-cycles all cross the orthogonal system once, so on a
 // surface whose handles hang off one body they wind round the body side by side in stacks.
 // Returns the S-cycles' curve ids, or nothing if some curve cannot be placed (b is then unchanged).
