@@ -101,13 +101,20 @@ int to_index(long long v) {
     return static_cast<int>(v);
 }
 
-// Fan triangulation of one polygon as read; counts what was split or dropped.
-void add_polygon(const std::vector<int>& corners, Mesh& mesh, LoadInfo& info) {
+// What a reader found, and (for read_polygon_mesh()) where to record each kept face's corner count.
+struct ReadInfo : LoadInfo {
+    std::vector<int>* polygon_sizes = nullptr;
+};
+
+// Fan triangulation of one polygon as read; counts what was split or dropped. The fan (c0, ck,
+// ck+1) and the corner count give the polygon back (read_polygon_mesh()).
+void add_polygon(const std::vector<int>& corners, Mesh& mesh, ReadInfo& info) {
     if (corners.size() < 3) {
         ++info.dropped_faces;
         return;
     }
     if (corners.size() > 3) ++info.polygons_split;
+    if (info.polygon_sizes) info.polygon_sizes->push_back(static_cast<int>(corners.size()));
     for (size_t k = 1; k + 1 < corners.size(); ++k)
         mesh.triangles.push_back({corners[0], corners[k], corners[k + 1]});
 }
@@ -183,7 +190,7 @@ private:
 // ------------------------------------------------------------------------------------------------
 // OBJ
 
-void read_obj(const std::string& path, std::string_view text, Mesh& mesh, LoadInfo& info) {
+void read_obj(const std::string& path, std::string_view text, Mesh& mesh, ReadInfo& info) {
     TextCursor c(text.data(), text.data() + text.size());
     std::vector<int> corners;
     while (!c.at_end()) {
@@ -234,7 +241,7 @@ bool is_off_keyword(std::string_view tok) {
     return true;
 }
 
-void read_off(const std::string& path, std::string_view text, Mesh& mesh, LoadInfo& info) {
+void read_off(const std::string& path, std::string_view text, Mesh& mesh, ReadInfo& info) {
     const char* const end = text.data() + text.size();
     TextCursor c(text.data(), end);
     c.skip_space(true);
@@ -371,7 +378,7 @@ bool is_binary_stl_size(std::string_view data) {
     return data.size() >= 84 && data.size() == 84 + 50 * static_cast<std::uint64_t>(stl_binary_count(data));
 }
 
-void read_stl_binary(const std::string& path, std::string_view data, Mesh& mesh, LoadInfo& info) {
+void read_stl_binary(const std::string& path, std::string_view data, Mesh& mesh, ReadInfo& info) {
     if (data.size() < 84) fail(path, "truncated binary STL: " + std::to_string(data.size()) + " bytes, the header alone is 84");
     const std::uint64_t n = stl_binary_count(data);
     if (!is_binary_stl_size(data))
@@ -389,10 +396,11 @@ void read_stl_binary(const std::string& path, std::string_view data, Mesh& mesh,
         }
         mesh.triangles.push_back(tri);
     }
+    if (info.polygon_sizes) info.polygon_sizes->insert(info.polygon_sizes->end(), n, 3);
     info.welded_vertices = static_cast<int>(3 * n - mesh.points.size());
 }
 
-void read_stl_ascii(const std::string& path, std::string_view text, Mesh& mesh, LoadInfo& info) {
+void read_stl_ascii(const std::string& path, std::string_view text, Mesh& mesh, ReadInfo& info) {
     TextCursor c(text.data(), text.data() + text.size());
     Welder welder(mesh, text.size() / 40);
     std::vector<int> corners;
@@ -712,7 +720,7 @@ PlyLayout layout_of(const std::string& path, const PlyElement& el) {
 // Triangle k of a strip is (v[k], v[k+1], v[k+2]) with every other triangle flipped, so that all
 // have the strip's orientation; -1 restarts a strip. Triangles with a repeated corner only join
 // strips (they have no area) and are skipped.
-void add_strips(const std::vector<int>& v, Mesh& mesh) {
+void add_strips(const std::vector<int>& v, Mesh& mesh, ReadInfo& info) {
     size_t start = 0;
     while (start < v.size()) {
         size_t stop = start;
@@ -723,6 +731,7 @@ void add_strips(const std::vector<int>& v, Mesh& mesh) {
             if ((k - start) % 2 == 1) std::swap(a, b);
             if (a == b || b == c || a == c) continue;
             mesh.triangles.push_back({a, b, c});
+            if (info.polygon_sizes) info.polygon_sizes->push_back(3);
         }
         start = stop + 1;
     }
@@ -730,7 +739,7 @@ void add_strips(const std::vector<int>& v, Mesh& mesh) {
 
 template <class Reader>
 void read_ply_body(const std::string& path, const PlyHeader& h, const char* encoding, Reader& r, Mesh& mesh,
-                   LoadInfo& info, PlyExtras* extras) {
+                   ReadInfo& info, PlyExtras* extras) {
     std::vector<int> corners;
     for (const PlyElement& el : h.elements) {
         const PlyLayout lay = layout_of(path, el);
@@ -774,7 +783,7 @@ void read_ply_body(const std::string& path, const PlyHeader& h, const char* enco
                         corners.push_back(to_index(v));
                     }
                     if (lay.role == PlyRole::face) add_polygon(corners, mesh, info);
-                    else add_strips(corners, mesh);
+                    else add_strips(corners, mesh, info);
                 } else if (idx == lay.x || idx == lay.y || idx == lay.z) {
                     if (!r.number(prop.type, xyz[idx == lay.x ? 0 : (idx == lay.y ? 1 : 2)])) truncated(i);
                 } else if (idx == extra) {
@@ -794,7 +803,7 @@ void read_ply_body(const std::string& path, const PlyHeader& h, const char* enco
     }
 }
 
-void read_ply(const std::string& path, std::string_view data, Mesh& mesh, LoadInfo& info, PlyExtras* extras) {
+void read_ply(const std::string& path, std::string_view data, Mesh& mesh, ReadInfo& info, PlyExtras* extras) {
     const PlyHeader h = parse_ply_header(path, data);
     if (h.encoding == PlyEncoding::ascii) {
         info.format = "ply-ascii";
@@ -942,8 +951,9 @@ void check_extras(const std::string& path, const Mesh& mesh, const PlyExtras& ex
 
 namespace {
 
-// read_mesh() and read_ply_with_extras(): `extras` non-null only for the latter (PLY only).
-Mesh read_any(const std::string& path, LoadInfo* info, PlyExtras* extras) {
+// read_mesh(), read_ply_with_extras() and read_polygon_mesh(): `extras` non-null only for the
+// second (PLY only), `polygon_sizes` only for the third.
+Mesh read_any(const std::string& path, LoadInfo* info, PlyExtras* extras, std::vector<int>* polygon_sizes = nullptr) {
     const std::string data = read_whole_file(path);
     if (data.find_first_not_of(" \t\r\n\v\f") == std::string::npos)
         fail(path, data.empty() ? "file is empty: contains no triangles" : "file holds only whitespace: contains no triangles");
@@ -954,7 +964,8 @@ Mesh read_any(const std::string& path, LoadInfo* info, PlyExtras* extras) {
 
     const std::string ext = lower_extension(path);
     Mesh mesh;
-    LoadInfo li;
+    ReadInfo li;
+    li.polygon_sizes = polygon_sizes;
     switch (detect_format(body, ext)) {
         case Format::obj: li.format = "obj"; read_obj(path, body, mesh, li); break;
         case Format::off: li.format = "off"; read_off(path, body, mesh, li); break;
@@ -979,6 +990,26 @@ Mesh read_any(const std::string& path, LoadInfo* info, PlyExtras* extras) {
 }  // namespace
 
 Mesh read_mesh(const std::string& path, LoadInfo* info) { return read_any(path, info, nullptr); }
+
+PolygonMesh read_polygon_mesh(const std::string& path, LoadInfo* info) {
+    std::vector<int> sizes;
+    const Mesh fans = read_any(path, info, nullptr, &sizes);
+    PolygonMesh out;
+    out.points = fans.points;
+    out.faces.reserve(sizes.size());
+    size_t t = 0;
+    for (const int n : sizes) {
+        // The fan of a polygon c0..c(n-1) is (c0, c1, c2), (c0, c2, c3), ...: its first triangle
+        // gives three corners, each further one the next corner.
+        QC_CHECK(t + (n - 2) <= fans.triangles.size(), "read_polygon_mesh: fan bookkeeping");
+        std::vector<int> face{fans.triangles[t][0], fans.triangles[t][1], fans.triangles[t][2]};
+        for (int k = 1; k < n - 2; ++k) face.push_back(fans.triangles[t + k][2]);
+        t += n - 2;
+        out.faces.push_back(std::move(face));
+    }
+    QC_CHECK(t == fans.triangles.size(), "read_polygon_mesh: fan bookkeeping");
+    return out;
+}
 
 Mesh read_ply_with_extras(const std::string& path, PlyExtras& extras, LoadInfo* info) {
     extras.face_ints.clear();

@@ -705,3 +705,49 @@ TEST_F(IoErrors, UnknownFormatListsSupported) {
 
 }  // namespace
 }  // namespace quadcage
+
+namespace quadcage {
+namespace {
+
+TEST_F(IoTest, PolygonMeshKeepsQuadsPentagonsAndTrianglesInEveryFormat) {
+    // A pentagon, a quad and a triangle, written as OBJ (1-based, one negative index), OFF and
+    // ASCII PLY.
+    const std::vector<std::vector<int>> faces = {{0, 1, 2, 3, 4}, {0, 5, 6, 1}, {2, 1, 6}};
+    const std::string obj = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0.5 1.5 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\n"
+                            "f 1 2 3 4 5\nf 1/1 6/1 7/1 2/1\nf 3 2 -1\n";
+    std::string off = "OFF\n7 3 0\n0 0 0\n1 0 0\n1 1 0\n0.5 1.5 0\n0 1 0\n0 0 1\n1 0 1\n5 0 1 2 3 4\n4 0 5 6 1\n3 2 1 6\n";
+    std::string ply = "ply\nformat ascii 1.0\nelement vertex 7\nproperty float x\nproperty float y\nproperty float z\n"
+                      "element face 3\nproperty list uchar int vertex_indices\nend_header\n"
+                      "0 0 0\n1 0 0\n1 1 0\n0.5 1.5 0\n0 1 0\n0 0 1\n1 0 1\n5 0 1 2 3 4\n4 0 5 6 1\n3 2 1 6\n";
+    for (const auto& [name, text] : std::vector<std::pair<std::string, std::string>>{
+             {"cage.obj", obj}, {"cage.off", off}, {"cage.ply", ply}}) {
+        LoadInfo info;
+        const PolygonMesh m = read_polygon_mesh(write_bytes(name, text), &info);
+        EXPECT_EQ(m.num_vertices(), 7) << name;
+        EXPECT_EQ(m.faces, faces) << name;
+        EXPECT_EQ(info.polygons_split, 2) << name;
+        // read_mesh() of the same file fan-triangulates: 3 + 2 + 1 triangles.
+        EXPECT_EQ(read_mesh(path(name)).num_triangles(), 6) << name;
+    }
+}
+
+TEST_F(IoTest, PolygonMeshOfBinaryStlIsItsFacets) {
+    std::string stl(80, ' ');
+    auto put32 = [&](std::uint32_t v) { stl.append(reinterpret_cast<const char*>(&v), 4); };
+    auto putf = [&](float v) { stl.append(reinterpret_cast<const char*>(&v), 4); };
+    put32(2);
+    const float tris[2][9] = {{0, 0, 0, 1, 0, 0, 0, 1, 0}, {1, 0, 0, 1, 1, 0, 0, 1, 0}};
+    for (const auto& t : tris) {
+        for (int k = 0; k < 3; ++k) putf(0);
+        for (float x : t) putf(x);
+        stl.append(2, '\0');
+    }
+    const PolygonMesh m = read_polygon_mesh(write_bytes("two.stl", stl));
+    EXPECT_EQ(m.num_vertices(), 4);  // welded
+    ASSERT_EQ(m.num_faces(), 2);
+    EXPECT_EQ(m.faces[0].size(), 3u);
+    EXPECT_EQ(m.faces[1].size(), 3u);
+}
+
+}  // namespace
+}  // namespace quadcage
