@@ -306,12 +306,9 @@ int run_layout(const LayoutOptions& o) {
     return kOk;
 }
 
-int run_fit(const FitCommandOptions& o) {
-    Progress progress(o.quiet);
-    progress.say("loading " + o.mesh);
-    const Mesh input = read_mesh(o.mesh);
-    const PreparedMesh prepared = prepare_for_quadding(input, o.mesh);
-    const size_t nc = prepared.components.size();
+namespace {
+
+fit::FitOptions fit_options_of(const FitCommandOptions& o) {
     fit::FitOptions fit_options;
     if (o.tolerance > 0) {
         fit_options.mode = fit::FitMode::Tolerance;
@@ -321,6 +318,101 @@ int run_fit(const FitCommandOptions& o) {
         fit_options.level = o.level;
     }
     if (const std::string e = fit_options.validate(); !e.empty()) throw InvalidInput("fit: " + e);
+    return fit_options;
+}
+
+// The per-level lines of `fit`'s summary.
+void print_fit_summary(const std::string& tag, const fit::FitResult& fit, const fit::FitOptions& options,
+                       const fit::FitOutputs& written) {
+    for (const fit::LevelReport& l : fit.levels)
+        std::printf("%s  level %d: %d control points, relative RMS %.3g, Hausdorff %.3g, %.0f%% of the input within %.3g (%s)\n",
+                    tag.c_str(), l.level, l.control_points, l.relative.rms, l.relative.hausdorff,
+                    100 * l.within_tolerance, options.tolerance, l.stop_reason.c_str());
+    std::printf("%s  %s\n", tag.c_str(), fit.message.c_str());
+    std::printf("%s  limit.ply: %lld triangles (tessellation error %.2g of the RMS)\n", tag.c_str(),
+                written.tessellation.triangles,
+                fit.levels.back().absolute.rms > 0 ? written.tessellation.rms_error / fit.levels.back().absolute.rms : 0.0);
+}
+
+// `fit MESH --cage CAGE`: the user's control mesh, matched to MESH's components, fitted to each.
+int run_fit_cage(const FitCommandOptions& o) {
+    Progress progress(o.quiet);
+    const fit::FitOptions fit_options = fit_options_of(o);
+    progress.say("loading " + o.mesh);
+    const Mesh input = read_mesh(o.mesh);
+    const PreparedMesh prepared = prepare_for_quadding(input, o.mesh);
+    const size_t nc = prepared.components.size();
+    progress.say("loading " + o.cage);
+    const PolygonMesh cage = read_polygon_mesh(o.cage);
+    if (const std::string why = subdiv::check_polygon_cage(cage); !why.empty())
+        throw InvalidInput(o.cage + ": cannot be fitted as a control mesh: " + why);
+    std::vector<PolygonMesh> pieces;
+    try {
+        pieces = fit::match_control_mesh(prepared.components, cage);
+    } catch (const InvalidInput& e) {
+        throw InvalidInput(o.cage + ": " + e.what() + " (" + o.mesh + ")");
+    }
+    struct Pending {
+        fit::FitResult fit;
+        double seconds = 0;
+    };
+    std::vector<Pending> pending;
+    for (size_t c = 0; c < nc; ++c) {
+        fit::FitOptions options = fit_options;
+        options.progress = progress.callback(component_tag(c, nc));
+        const double t0 = progress.seconds();
+        Pending p;
+        try {
+            p.fit = fit::fit_control_mesh(prepared.components[c], pieces[c], options);
+        } catch (const InvalidInput& e) {
+            throw InvalidInput(o.cage + ": " + e.what() + " (" + o.mesh + ")");
+        }
+        p.seconds = progress.seconds() - t0;
+        pending.push_back(std::move(p));
+    }
+    json top = {{"command", "fit"}, {"input", o.mesh}, {"cage", o.cage}, {"components", nc}};
+    json parts = json::array();
+    for (size_t c = 0; c < nc; ++c) {
+        const Pending& p = pending[c];
+        const std::string dir = component_dir(o.output_dir, c, nc), tag = component_tag(c, nc);
+        progress.say(tag + "writing the fitted surface");
+        const fit::FitOutputs written = fit::write_fit_outputs(dir, prepared.components[c], p.fit, fit_options);
+        json report = json::parse(fit::fit_report_json(p.fit, fit_options, &written.tessellation));
+        report["command"] = "fit";
+        report["input"] = o.mesh;
+        report["cage"] = o.cage;
+        report["component"] = c;
+        report["components"] = nc;
+        report["control_mesh"] = {{"faces", pieces[c].num_faces()}, {"vertices", pieces[c].num_vertices()}};
+        report["seconds"] = {{"fit", p.seconds}, {"total", p.seconds}};
+        report["peak_memory_mib"] = peak_memory_mib();
+        write_text_file(output_path(dir, "report.json"), report.dump(2) + "\n");
+        parts.push_back(report);
+        if (o.json) continue;
+        std::printf("%scontrol mesh of %d faces, %d vertices, fit %.2f s\n", tag.c_str(), pieces[c].num_faces(),
+                    pieces[c].num_vertices(), p.seconds);
+        print_fit_summary(tag, p.fit, fit_options, written);
+    }
+    if (nc > 1) {
+        top["component_reports"] = parts;
+        top["peak_memory_mib"] = peak_memory_mib();
+        write_text_file(output_path(o.output_dir, "report.json"), top.dump(2) + "\n");
+    }
+    if (o.json) std::cout << (nc == 1 ? parts[0] : top).dump(2) << "\n";
+    progress.say("wrote " + o.output_dir);
+    return kOk;
+}
+
+}  // namespace
+
+int run_fit(const FitCommandOptions& o) {
+    if (!o.cage.empty()) return run_fit_cage(o);
+    Progress progress(o.quiet);
+    progress.say("loading " + o.mesh);
+    const Mesh input = read_mesh(o.mesh);
+    const PreparedMesh prepared = prepare_for_quadding(input, o.mesh);
+    const size_t nc = prepared.components.size();
+    const fit::FitOptions fit_options = fit_options_of(o);
     struct Pending {
         LayoutFiles layout;
         fit::FitResult fit;
@@ -370,14 +462,7 @@ int run_fit(const FitCommandOptions& o) {
         if (o.json) continue;
         std::printf("%sgenus %d: %d-quad cage, layout %.2f s, fit %.2f s\n", tag.c_str(), p.layout.report["genus"].get<int>(),
                     p.layout.report["quads"].get<int>(), p.layout_seconds, p.fit_seconds);
-        for (const fit::LevelReport& l : p.fit.levels)
-            std::printf("%s  level %d: %d control points, relative RMS %.3g, Hausdorff %.3g, %.0f%% of the input within %.3g (%s)\n",
-                        tag.c_str(), l.level, l.control_points, l.relative.rms, l.relative.hausdorff,
-                        100 * l.within_tolerance, fit_options.tolerance, l.stop_reason.c_str());
-        std::printf("%s  %s\n", tag.c_str(), p.fit.message.c_str());
-        std::printf("%s  limit.ply: %lld triangles (tessellation error %.2g of the RMS)\n", tag.c_str(),
-                    written.tessellation.triangles,
-                    p.fit.levels.back().absolute.rms > 0 ? written.tessellation.rms_error / p.fit.levels.back().absolute.rms : 0.0);
+        print_fit_summary(tag, p.fit, fit_options, written);
     }
     if (nc > 1) {
         top["component_reports"] = parts;

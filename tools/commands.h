@@ -37,6 +37,7 @@ struct FitCommandOptions {
     int level = 3;            ///< --level K (used unless a tolerance is given).
     double tolerance = 0;     ///< --tolerance T: fit levels 0, 1, ... until the relative RMS <= T.
     int max_level = 5;        ///< --max-level with --tolerance.
+    std::string cage;         ///< --cage CAGE: fit this control mesh instead of building a layout.
     bool json = false;        ///< Print report.json instead of the summary.
     bool quiet = false;       ///< No progress on stderr.
 };

@@ -54,16 +54,23 @@ int main(int argc, char** argv) {
 
     FitCommandOptions fitopt;
     CLI::App* fit_cmd = app.add_subcommand(
-        "fit", "Build the minimal quad layout (as `layout`), then fit the control points of its cage\n"
-               "refined K times so that the Catmull-Clark limit surface matches the mesh (Ceres, OpenSubdiv,\n"
-               "Embree). Writes the layout files and fitted_cage.obj, limit.ply (per-vertex distance to the\n"
+        "fit", "Build the minimal quad layout (as `layout`), or take the control mesh given with --cage,\n"
+               "then fit the control points of its cage refined K times so that the Catmull-Clark limit\n"
+               "surface matches the mesh (Ceres, OpenSubdiv, Embree). Writes the layout files (not with\n"
+               "--cage) and fitted_cage.obj, limit.ply (per-vertex distance to the\n"
                "input), deviation.ply (the input with per-vertex distance to the surface) and report.json.\n"
                "Errors are relative to the bounding-box diagonal.");
     add_mesh_output_quiet(fit_cmd, fitopt.mesh, fitopt.output_dir, fitopt.quiet);
+    fit_cmd->add_option("--cage", fitopt.cage,
+                        "Fit this control mesh (OBJ/PLY/OFF: closed, manifold, quads or any polygons, the genus\n"
+                        "and components of MESH, near it) instead of building a layout: its limit surface's\n"
+                        "closest points on MESH start the fit. Writes fitted_cage.obj (at level 0 the cage's\n"
+                        "own faces), limit.ply, deviation.ply and report.json; CAGE is only read");
     auto* level_opt = fit_cmd->add_option("--level", fitopt.level,
-                                          "Refinements of the cage to fit (0 = the 8g-8 corners); default 3. Levels 1..K are\n"
-                                          "fitted in turn and all reported; from level 2 on, a level that measures worse than\n"
-                                          "the one before is fitted again from the previous fit refined")
+                                          "Refinements of the cage to fit (0 = the 8g-8 corners, or CAGE's own vertices);\n"
+                                          "default 3. Levels 1..K are fitted in turn and all reported; from level 2 on, a\n"
+                                          "level that measures worse than the one before is fitted again from the previous\n"
+                                          "fit refined (with --cage: from level 2 on, each level starts from the previous fit)")
         ->check(CLI::Range(0, 7));
     fit_cmd->add_option("--tolerance", fitopt.tolerance,
                         "Fit levels 0, 1, 2, ... until the relative symmetric RMS error <= T (or --max-level)")

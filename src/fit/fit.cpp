@@ -6,11 +6,14 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <map>
+#include <optional>
 #include <memory>
 #include <random>
 #include <set>
 
+#include "detail/control_mesh.h"
 #include "detail/costs.h"
 #include "detail/measure.h"
 #include "detail/patch_locator.h"
@@ -31,16 +34,23 @@ FittedSurface::FittedSurface(const subdiv::QuadMesh& control_mesh, int level, in
 }
 
 FittedSurface::FittedSurface(std::shared_ptr<const subdiv::LimitSurface> surface, int level, int cage_quads)
-    : surface_(std::move(surface)), level_(level), cage_quads_(cage_quads) {
+    : FittedSurface(std::move(surface), level, cage_quads, 4 * cage_quads) {
+    search_level_ = std::max(level, 1);
+}
+
+FittedSurface::FittedSurface(std::shared_ptr<const subdiv::LimitSurface> surface, int level, int cage_faces,
+                             int level1_quads)
+    : surface_(std::move(surface)), level_(level), cage_faces_(cage_faces), level1_quads_(level1_quads) {
     if (!surface_) throw InvalidInput("FittedSurface: no surface");
-    if (level < 0 || level > kMaxFitLevel || cage_quads < 1)
+    if (level < 0 || level > kMaxFitLevel || cage_faces < 1 || level1_quads < 3 * cage_faces)
         throw InvalidInput("FittedSurface: level must be in [0, " + std::to_string(kMaxFitLevel) +
-                           "] and cage_quads >= 1");
-    const long long expected = static_cast<long long>(cage_quads) << (2 * std::max(level, 1));
+                           "], cage_faces >= 1 and level1_quads >= 3 * cage_faces");
+    const long long expected = static_cast<long long>(level1_quads) << (2 * (std::max(level, 1) - 1));
     if (surface_->num_faces() != expected)
         throw InvalidInput("FittedSurface: the control mesh has " + std::to_string(surface_->num_faces()) +
                            " quads, expected " + std::to_string(expected) + " for level " + std::to_string(level) +
-                           " of a " + std::to_string(cage_quads) + "-quad cage");
+                           " of a " + std::to_string(cage_faces) + "-face cage");
+    search_level_ = detail::search_level(static_cast<int>(expected));
 }
 
 const subdiv::LimitSurface& FittedSurface::limit() const {
@@ -53,8 +63,9 @@ const subdiv::QuadMesh& FittedSurface::control_mesh() const { return limit().con
 subdiv::LimitPoint FittedSurface::evaluate(const subdiv::FacePoint& p) const { return limit().evaluate(p); }
 
 subdiv::FacePoint FittedSurface::from_cage(const subdiv::FacePoint& cage_point) const {
-    if (cage_point.face < 0 || cage_point.face >= cage_quads_)
-        throw InvalidInput("FittedSurface: cage quad " + std::to_string(cage_point.face) + " is out of range");
+    if (cage_point.face < 0 || cage_point.face >= cage_quads())
+        throw InvalidInput("FittedSurface: cage quad " + std::to_string(cage_point.face) + " is out of range" +
+                           (cage_quads() == 0 ? " (the cage has faces other than quads)" : ""));
     return subdiv::descend(cage_point, std::max(level_, 1));
 }
 
@@ -242,9 +253,11 @@ struct DataPoint {
     subdiv::FacePoint c;
 };
 
-std::vector<DataPoint> make_data_points(const layout::QuadLayout& layout, const FitOptions& options) {
-    std::vector<detail::MeshSample> vertices = detail::sample_vertices(layout.mesh);
-    const std::vector<detail::MeshSample> area = detail::sample_by_area(layout.mesh, options.area_samples, options.seed);
+/// The data points of `mesh`; their feet come from the layout's patch coordinates, or (no layout)
+/// are left unset (face -1) for a projection onto the surface.
+std::vector<DataPoint> make_data_points(const Mesh& mesh, const layout::QuadLayout* layout, const FitOptions& options) {
+    std::vector<detail::MeshSample> vertices = detail::sample_vertices(mesh);
+    const std::vector<detail::MeshSample> area = detail::sample_by_area(mesh, options.area_samples, options.seed);
     const size_t cap = static_cast<size_t>(options.max_data_points);
     if (area.size() >= cap) vertices.clear();
     else if (vertices.size() + area.size() > cap) {
@@ -258,10 +271,11 @@ std::vector<DataPoint> make_data_points(const layout::QuadLayout& layout, const 
     std::vector<DataPoint> out;
     out.reserve(vertices.size() + std::min(area.size(), cap));
     auto add = [&](const detail::MeshSample& s) {
-        const auto& uv = layout.corner_uv[s.triangle];
+        if (!layout) return out.push_back({s.point, {}});
+        const auto& uv = layout->corner_uv[s.triangle];
         double u = 0, v = 0;
         for (int k = 0; k < 3; ++k) u += s.bary[k] * uv[k][0], v += s.bary[k] * uv[k][1];
-        out.push_back({s.point, {layout.triangle_patch[s.triangle], std::clamp(u, 0.0, 1.0), std::clamp(v, 0.0, 1.0)}});
+        out.push_back({s.point, {layout->triangle_patch[s.triangle], std::clamp(u, 0.0, 1.0), std::clamp(v, 0.0, 1.0)}});
     };
     for (const auto& s : vertices) add(s);
     for (size_t k = 0; k < area.size() && out.size() < cap; ++k) add(area[k]);
@@ -295,7 +309,7 @@ struct LevelState {
 };
 
 struct Context {
-    const layout::QuadLayout& layout;
+    const Mesh& mesh;  ///< The surface fitted.
     const FitOptions& options;
     const accel::ClosestPointIndex& index;
     double diagonal;
@@ -343,7 +357,7 @@ subdiv::LimitPoint limit_point(const subdiv::LimitSurface& surface, const subdiv
 }
 
 /// New feet of the data points on the (moved) surface: the better of a local projection from the
-/// old foot and one from the closest point of a tessellation of the whole surface. The local walk
+/// old foot (if set: face >= 0) and one from the closest point of a tessellation of the whole surface. The local walk
 /// alone stays in the basin of its old foot: where a distorted patch map put a foot on the wrong
 /// side of a thin part, the fit pulls the surface there into a fin and never lets go. Returns the
 /// RMS distance of the data points to their new feet.
@@ -360,8 +374,11 @@ double update_correspondences(const subdiv::LimitSurface& surface, std::vector<D
             const Vec3 r = surface.evaluate(c).position - d.p;
             return dot(r, r);
         };
-        d.c = surface.project(d.p, d.c);
-        d2[i] = dist2(d.c);
+        d2[i] = std::numeric_limits<double>::infinity();
+        if (d.c.face >= 0) {
+            d.c = surface.project(d.p, d.c);
+            d2[i] = dist2(d.c);
+        }
         // A walk from the tessellation's closest point can only find a closer foot when that point
         // is closer than the local foot (up to the tessellation's own error): skip it otherwise.
         if (seeds[i].distance * seeds[i].distance < d2[i]) {
@@ -506,9 +523,9 @@ LevelReport fit_level(const Context& ctx, const LevelTopology& topo, subdiv::Lim
                                   data_pos[i], data_weight);
         });
         parallel_for(static_cast<int>(surf_rows.size()), ctx.threads, [&](int i) {
-            const Triangle& tri = ctx.layout.mesh.triangles[hits[i].triangle];
-            const Vec3& a = ctx.layout.mesh.points[tri[0]];
-            const Vec3 n = cross(ctx.layout.mesh.points[tri[1]] - a, ctx.layout.mesh.points[tri[2]] - a);
+            const Triangle& tri = ctx.mesh.triangles[hits[i].triangle];
+            const Vec3& a = ctx.mesh.points[tri[0]];
+            const Vec3 n = cross(ctx.mesh.points[tri[1]] - a, ctx.mesh.points[tri[2]] - a);
             const double len = norm(n);
             if (!(len > 0)) return;  // left empty: no rows
             surf_rows[i] = scaled(detail::point_to_plane_rows(weights_of(surf_combo[i]), hits[i].point, n / len, 1.0),
@@ -622,25 +639,39 @@ void fill_error(LevelReport* rep, const ErrorMeasurement& m) {
 
 }  // namespace
 
-FitResult fit_surface(const layout::QuadLayout& layout, const FitOptions& options) {
-    if (const std::string why = options.validate(); !why.empty()) throw InvalidInput("fit: " + why);
-    validate_layout(layout);
+/// What a fit starts from: the layout's cage with its patch maps (fit_surface()), or a control
+/// mesh of any polygons lying near the mesh (fit_control_mesh()).
+struct Source {
+    const Mesh& mesh;                     ///< The surface fitted.
+    const layout::QuadLayout* layout;     ///< Patch maps for the parametric start; null: start from the cage.
+    const accel::ClosestPointIndex& index;  ///< Of `mesh`.
+    double build_seconds;                 ///< Building `index`.
+    subdiv::CageRefinement level1;        ///< The cage refined once, with its stencils on the cage's points.
+    std::vector<Vec3> cage_points;        ///< The level-0 points (variables of level 0).
+    int cage_faces, level1_quads;
+    std::string description;              ///< "cage of 40 quads", for the progress line.
+};
+
+/// The level passed to detail::face_segments() for a surface of `level` over `source`.
+int search_level_of(const Source& src, int level, int faces) {
+    return src.layout ? level : detail::search_level(faces);
+}
+
+FitResult fit_from(const Source& src, const FitOptions& options) {
     const auto start = Clock::now();
     const int threads = resolve_threads(options.threads);
+    const accel::ClosestPointIndex& index = src.index;
+    const double build_seconds = src.build_seconds;
+    const Context ctx{src.mesh, options, index, bounding_box(src.mesh).diagonal(), threads};
+    if (!(ctx.diagonal > 0)) throw InvalidInput("fit: the mesh has a zero bounding box");
 
     auto clock = Clock::now();
-    const accel::ClosestPointIndex index(layout.mesh);
-    const double build_seconds = seconds_since(clock);
-    const Context ctx{layout, options, index, bounding_box(layout.mesh).diagonal(), threads};
-    if (!(ctx.diagonal > 0)) throw InvalidInput("fit: the layout mesh has a zero bounding box");
-
-    clock = Clock::now();
-    const subdiv::CageRefinement level1 = subdiv::refine_cage(layout.cage);
-    const detail::PatchLocator locator(layout);
-    std::vector<DataPoint> data0 = make_data_points(layout, options);
+    const subdiv::CageRefinement& level1 = src.level1;
+    std::optional<detail::PatchLocator> locator;
+    if (src.layout) locator.emplace(*src.layout);
+    std::vector<DataPoint> data0 = make_data_points(src.mesh, src.layout, options);
     const double setup_seconds = seconds_since(clock);
-    ctx.progress("fit: " + std::to_string(data0.size()) + " data points, cage of " +
-                 std::to_string(layout.cage.num_quads()) + " quads");
+    ctx.progress("fit: " + std::to_string(data0.size()) + " data points, " + src.description);
 
     subdiv::LimitSurfaceOptions lso;
     lso.irregular_level = options.irregular_level;
@@ -664,13 +695,17 @@ FitResult fit_surface(const layout::QuadLayout& layout, const FitOptions& option
         StageSeconds pre;
         clock = Clock::now();
         LevelTopology next = make_topology(level1, level);
-        const std::vector<Vec3> parametric = parametric_vars(layout, locator, next, threads);
+        // Start of a layout's fit: control points at their patch coordinates on the mesh,
+        // correspondences from the patch coordinates of the data points. Of a control mesh's fit:
+        // the control mesh refined, and the data points' feet (unset here) projected onto its limit.
+        const std::vector<Vec3> parametric = src.layout ? parametric_vars(*src.layout, *locator, next, threads)
+                                             : level == 0 ? src.cage_points
+                                                          : next.mesh.points;
         const size_t nd = level_data_count(data0.size(), next.mesh.num_quads(), options);
-        // Parametric start: control points at their patch coordinates on the mesh, correspondences
-        // from the patch coordinates of the data points.
         LevelState parametric_state;
         parametric_state.data.assign(data0.begin(), data0.begin() + nd);
-        for (DataPoint& d : parametric_state.data) d.c = subdiv::descend(d.c, next.mesh_level);
+        if (src.layout)
+            for (DataPoint& d : parametric_state.data) d.c = subdiv::descend(d.c, next.mesh_level);
         parametric_state.vars = parametric;
         LevelState warm;
         bool warm_new_points = false;
@@ -702,25 +737,27 @@ FitResult fit_surface(const layout::QuadLayout& layout, const FitOptions& option
         surface = std::make_shared<subdiv::LimitSurface>(next.mesh, lso);
         pre.evaluation += seconds_since(clock);
         topo = std::move(next);
+        const int search_level = search_level_of(src, level, topo.mesh.num_quads());
         LevelReport rep;
         if (options.measure_unfitted) {
             surface->set_points(topo.expand(parametric));
             detail::MeasureTimes mt;
-            const ErrorMeasurement m = detail::measure(layout.mesh, index, *surface, level, ctx.measure_options(), &mt);
+            const ErrorMeasurement m = detail::measure(src.mesh, index, *surface, search_level, ctx.measure_options(), &mt);
             rep.unfitted_relative_rms = m.relative.rms;
             rep.unfitted_relative_hausdorff = m.relative.hausdorff;
         }
         const double unfitted_rms = rep.unfitted_relative_rms, unfitted_h = rep.unfitted_relative_hausdorff;
         detail::MeasureTimes mt;
-        auto run = [&](LevelState& st, bool from_warm, ErrorMeasurement* m) {
-            if (from_warm && warm_new_points) {
+        // Fits from `st`, first projecting the data points onto the start's surface if `project`.
+        auto run = [&](LevelState& st, bool project, ErrorMeasurement* m) {
+            if (project) {
                 clock = Clock::now();
                 surface->set_points(topo.expand(st.vars));
                 update_correspondences(*surface, &st.data, threads);
                 pre.evaluation += seconds_since(clock);
             }
             LevelReport r = fit_level(ctx, topo, *surface, st);
-            *m = detail::measure(layout.mesh, index, *surface, level, ctx.measure_options(), &mt);
+            *m = detail::measure(src.mesh, index, *surface, search_level, ctx.measure_options(), &mt);
             return r;
         };
         const auto no_worse = [&](const ErrorMeasurement& e) {
@@ -728,9 +765,17 @@ FitResult fit_surface(const layout::QuadLayout& layout, const FitOptions& option
             return e.relative.rms <= prev.rms && e.relative.hausdorff <= (1 - kHausdorffMargin) * prev.hausdorff;
         };
         ErrorMeasurement m;
-        state = std::move(parametric_state);
-        rep = run(state, false, &m);
-        if (level >= 2 && !no_worse(m)) {
+        if (!src.layout && level >= 2) {
+            // A control mesh's fit: the previous fit refined starts closer than the control mesh
+            // refined, which is the same surface without the fit.
+            state = std::move(warm);
+            rep = run(state, warm_new_points, &m);
+            rep.stop_reason += " (from the refined previous fit)";
+        } else {
+            state = std::move(parametric_state);
+            rep = run(state, !src.layout, &m);
+        }
+        if (src.layout && level >= 2 && !no_worse(m)) {
             // The parametric start comes first because a coarse level can be degenerate (the limit
             // of the 2 x 2 torus cage folds onto itself) and its refinement a poor start; finer
             // levels, too, mostly end better from it. When that fit measures worse than the
@@ -742,7 +787,7 @@ FitResult fit_surface(const layout::QuadLayout& layout, const FitOptions& option
                          ", fitting again from the refined previous fit");
             const LevelState parametric_fit = state;
             ErrorMeasurement mw;
-            LevelReport warm_rep = run(warm, true, &mw);
+            LevelReport warm_rep = run(warm, warm_new_points, &mw);
             warm_rep.seconds.evaluation += rep.seconds.evaluation;
             warm_rep.seconds.closest_points += rep.seconds.closest_points;
             warm_rep.seconds.solve += rep.seconds.solve;
@@ -788,7 +833,9 @@ FitResult fit_surface(const layout::QuadLayout& layout, const FitOptions& option
     }
     const LevelReport& fin = result.levels.back();
     result.fitted_corners = fin.level == 0 ? kept_vars : std::vector<Vec3>{};
-    result.surface = FittedSurface(std::shared_ptr<const subdiv::LimitSurface>(kept_surface), fin.level, layout.cage.num_quads());
+    std::shared_ptr<const subdiv::LimitSurface> kept(kept_surface);
+    result.surface = src.layout ? FittedSurface(kept, fin.level, src.cage_faces)
+                                : FittedSurface(kept, fin.level, src.cage_faces, src.level1_quads);
     if (options.mode == FitMode::Level)
         result.message = "fitted level " + std::to_string(fin.level) + format(": relative rms %.3e", fin.relative.rms);
     else if (result.tolerance_met)
@@ -803,6 +850,34 @@ FitResult fit_surface(const layout::QuadLayout& layout, const FitOptions& option
         result.message = "tolerance " + format("%.3g", options.tolerance) + " not met by max_level " +
                          std::to_string(options.max_level) + format(" (relative rms %.3e)", fin.relative.rms);
     ctx.progress(result.message + format(" in %.2f s", seconds_since(start)));
+    return result;
+}
+
+FitResult fit_surface(const layout::QuadLayout& layout, const FitOptions& options) {
+    if (const std::string why = options.validate(); !why.empty()) throw InvalidInput("fit: " + why);
+    validate_layout(layout);
+    const auto clock = Clock::now();
+    const accel::ClosestPointIndex index(layout.mesh);
+    const int nq = layout.cage.num_quads();
+    Source src{layout.mesh, &layout, index, seconds_since(clock), subdiv::refine_cage(layout.cage),
+               layout.cage.points, nq, 4 * nq, "cage of " + std::to_string(nq) + " quads"};
+    return fit_from(src, options);
+}
+
+FitResult fit_control_mesh(const Mesh& mesh, const PolygonMesh& cage, const FitOptions& options) {
+    if (const std::string why = options.validate(); !why.empty()) throw InvalidInput("fit: " + why);
+    const auto clock = Clock::now();
+    const accel::ClosestPointIndex index(mesh);
+    const double build_seconds = seconds_since(clock);
+    if (const std::string why = detail::check_control_mesh(mesh, index, cage, 0.1); !why.empty())
+        throw InvalidInput("the control mesh cannot be fitted: " + why);
+    subdiv::CageRefinement level1 = subdiv::refine_polygon_cage(cage);
+    const int level1_quads = level1.level1.num_quads();
+    Source src{mesh, nullptr, index, build_seconds, std::move(level1), cage.points, cage.num_faces(), level1_quads,
+               "control mesh of " + std::to_string(cage.num_faces()) + " faces, " +
+                   std::to_string(cage.num_vertices()) + " vertices"};
+    FitResult result = fit_from(src, options);
+    if (result.levels.back().level == 0) result.fitted_cage = PolygonMesh{result.fitted_corners, cage.faces};
     return result;
 }
 

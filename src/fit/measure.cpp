@@ -51,6 +51,10 @@ DistanceStats stats_of(const std::vector<double>& d) {
     return s;
 }
 
+int search_level(int faces) {
+    return std::max(1, static_cast<int>(std::lround(0.5 * std::log2(std::max(faces, 1) / 40.0))));
+}
+
 int face_segments(int cage_segments, int level) {
     const int shift = std::min(30, std::max(level, 1));
     return std::max(1, (cage_segments + (1 << shift) - 1) >> shift);
@@ -130,14 +134,14 @@ ErrorMeasurement measure_fit_error(const Mesh& mesh, const FittedSurface& surfac
     if (const std::string why = options.validate(); !why.empty()) throw InvalidInput("measure_fit_error: " + why);
     if (surface.empty()) throw InvalidInput("measure_fit_error: the fitted surface is empty");
     const accel::ClosestPointIndex index(mesh);  // validates the mesh
-    return detail::measure(mesh, index, surface.limit(), surface.level(), options);
+    return detail::measure(mesh, index, surface.limit(), surface.search_level(), options);
 }
 
 std::vector<double> distances_to_surface(const FittedSurface& surface, const std::vector<Vec3>& points,
                                          int search_segments, int threads) {
     if (surface.empty()) throw InvalidInput("distances_to_surface: the fitted surface is empty");
     if (search_segments < 1) throw InvalidInput("distances_to_surface: search_segments must be >= 1");
-    const detail::SurfaceProjector projector(surface.limit(), detail::face_segments(search_segments, surface.level()),
+    const detail::SurfaceProjector projector(surface.limit(), detail::face_segments(search_segments, surface.search_level()),
                                              threads);
     const std::vector<subdiv::FacePoint> feet = projector.project(points);  // throws on non-finite points
     std::vector<double> out(points.size());

@@ -107,6 +107,11 @@ void write_quad_obj(const std::string& path, const subdiv::QuadMesh& mesh) {
                                                           " vertices, " + std::to_string(mesh.num_quads()) + " quads"));
 }
 
+void write_polygon_obj(const std::string& path, const PolygonMesh& mesh) {
+    write_text_file(path, subdiv::polygon_obj_text(mesh, "quadcage fitted control mesh: " + std::to_string(mesh.num_vertices()) +
+                                                             " vertices, " + std::to_string(mesh.num_faces()) + " faces"));
+}
+
 void write_limit_ply(const std::string& path, const Mesh& input, const FittedSurface& surface,
                      const TessellationChoice& choice, int threads) {
     const subdiv::LimitTessellation tess = surface.limit().tessellate(std::max(1, choice.segments));
@@ -183,7 +188,8 @@ FitOutputs write_fit_outputs(const std::string& dir, const Mesh& input, const Fi
     const fs::path base(dir);
     const std::string cage = (base / "fitted_cage.obj").string(), limit = (base / "limit.ply").string();
     const std::string deviation = (base / "deviation.ply").string(), report = (base / "report.json").string();
-    write_quad_obj(cage, result.surface.control_mesh());
+    if (result.fitted_cage.faces.empty()) write_quad_obj(cage, result.surface.control_mesh());
+    else write_polygon_obj(cage, result.fitted_cage);
     out.files.push_back(cage);
     out.tessellation = choose_tessellation(result.surface, result.levels.back().absolute.rms, ply_options);
     write_limit_ply(limit, input, result.surface, out.tessellation, ply_options.threads);

@@ -179,18 +179,26 @@ std::vector<Vec3> limit_positions(const QuadMesh& cage, int levels) {
     return to_vec3(limit);
 }
 
-std::string quad_obj_text(const QuadMesh& mesh, const std::string& comment) {
+std::string polygon_obj_text(const PolygonMesh& mesh, const std::string& comment) {
     std::string out = "# " + comment + "\n";
     char buf[128];
     for (const Vec3& p : mesh.points) {
         std::snprintf(buf, sizeof buf, "v %.17g %.17g %.17g\n", p.x, p.y, p.z);
         out += buf;
     }
-    for (const auto& q : mesh.quads) {
-        std::snprintf(buf, sizeof buf, "f %d %d %d %d\n", q[0] + 1, q[1] + 1, q[2] + 1, q[3] + 1);
-        out += buf;
+    for (const auto& f : mesh.faces) {
+        out += 'f';
+        for (int v : f) out += ' ' + std::to_string(v + 1);
+        out += '\n';
     }
     return out;
+}
+
+std::string quad_obj_text(const QuadMesh& mesh, const std::string& comment) {
+    PolygonMesh p{mesh.points, {}};
+    p.faces.reserve(mesh.quads.size());
+    for (const auto& q : mesh.quads) p.faces.emplace_back(q.begin(), q.end());
+    return polygon_obj_text(p, comment);
 }
 
 std::string opensubdiv_version() {

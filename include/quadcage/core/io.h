@@ -26,15 +26,6 @@ struct LoadInfo {
 ///        malformed, or has an unknown format; the message names the file and the line or element.
 Mesh read_mesh(const std::string& path, LoadInfo* info = nullptr);
 
-/// A polygon mesh as a file holds it: faces with any number of corners (>= 3), not triangulated.
-struct PolygonMesh {
-    std::vector<Vec3> points;
-    std::vector<std::vector<int>> faces;  ///< Corner indices into points, as written (0-based).
-
-    int num_vertices() const { return static_cast<int>(points.size()); }
-    int num_faces() const { return static_cast<int>(faces.size()); }
-};
-
 /// Reads a mesh file like read_mesh() but keeps its polygons (a control cage of quads or any
 /// polygons: `quadcage fit --cage`). Triangle strips and STL facets come out as triangles. Indices
 /// are kept as written, even when out of range: the caller checks them.

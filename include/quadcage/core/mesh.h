@@ -48,6 +48,16 @@ struct Mesh {
     int num_triangles() const { return static_cast<int>(triangles.size()); }
 };
 
+/// A polygon mesh: faces with any number of corners (a control cage, as a file holds it). Nothing
+/// is assumed about it until checked (subdiv::check_polygon_cage()).
+struct PolygonMesh {
+    std::vector<Vec3> points;
+    std::vector<std::vector<int>> faces;  ///< Corner indices into points, counter-clockwise seen from outside.
+
+    int num_vertices() const { return static_cast<int>(points.size()); }
+    int num_faces() const { return static_cast<int>(faces.size()); }
+};
+
 /// Area of triangle t (indices must be valid).
 double triangle_area(const Mesh& mesh, int t);
 

@@ -119,9 +119,14 @@ struct LevelReport {
 
 /// A fitted Catmull-Clark surface: the control mesh (level >= 1 as OpenSubdiv sees it) and its
 /// limit. Cheap to copy (the evaluator is shared and immutable). Evaluation is thread-safe.
+///
+/// The level-0 cage is either the layout's 10g-10-quad cage (fit_surface()) or a user's control
+/// mesh of any polygons (fit_control_mesh()); its first Catmull-Clark step has only quads, and
+/// level L >= 1 has level1_quads * 4^(L-1) of them.
 class FittedSurface {
 public:
     FittedSurface() = default;
+    /// A surface over a layout's quad cage.
     /// \param control_mesh simple closed quad mesh at cage level max(level, 1).
     /// \param level the fitted level (0 = the cage corners were the variables).
     /// \param cage_quads number of level-0 cage quads (control_mesh has cage_quads * 4^max(level,1) quads).
@@ -130,18 +135,31 @@ public:
     /// Wraps an evaluator that nobody modifies any more (same counts as above).
     /// \throw InvalidInput if surface is null or the counts disagree.
     FittedSurface(std::shared_ptr<const subdiv::LimitSurface> surface, int level, int cage_quads);
+    /// A surface over a user's control mesh of `cage_faces` polygons whose first refinement has
+    /// `level1_quads` quads (4 * cage_faces when they are all quads).
+    /// \throw InvalidInput if surface is null or the counts disagree.
+    FittedSurface(std::shared_ptr<const subdiv::LimitSurface> surface, int level, int cage_faces, int level1_quads);
 
     bool empty() const { return !surface_; }
     int level() const { return level_; }
-    int cage_quads() const { return cage_quads_; }
+    /// Faces of the level-0 cage.
+    int cage_faces() const { return cage_faces_; }
+    /// Quads of the level-0 cage: cage_faces() when every face is a quad, else 0.
+    int cage_quads() const { return level1_quads_ == 4 * cage_faces_ ? cage_faces_ : 0; }
+    /// The level at which a tessellation of `segments` per level-0 side is cut (see
+    /// MeasureOptions::search_segments): level() for a layout cage; for a user's control mesh the
+    /// level of a 40-quad cage with about as many faces, so a cage of thousands of faces is
+    /// tessellated about as densely as a layout cage at the same face count.
+    int search_level() const { return search_level_; }
     /// The control mesh whose limit is the fitted surface (simple, manifold quads).
     const subdiv::QuadMesh& control_mesh() const;
     /// Limit position, derivatives and normal at (face, u, v) of control_mesh().
     /// \throw InvalidInput if the face is out of range or the surface is empty.
     subdiv::LimitPoint evaluate(const subdiv::FacePoint& p) const;
     /// The same at (cage quad, u, v) of the level-0 cage (the layout's patch parameterisation).
+    /// \throw InvalidInput if the quad is out of range or the cage has faces other than quads.
     subdiv::LimitPoint evaluate_on_cage(const subdiv::FacePoint& cage_point) const;
-    /// The face point of control_mesh() for a point of the level-0 cage.
+    /// The face point of control_mesh() for a point of the level-0 cage. \throw as evaluate_on_cage().
     subdiv::FacePoint from_cage(const subdiv::FacePoint& cage_point) const;
     /// The underlying evaluator (stencils, projection, tessellation). \throw InvalidInput if empty.
     const subdiv::LimitSurface& limit() const;
@@ -149,16 +167,22 @@ public:
 private:
     std::shared_ptr<const subdiv::LimitSurface> surface_;
     int level_ = 0;
-    int cage_quads_ = 0;
+    int cage_faces_ = 0;
+    int level1_quads_ = 0;
+    int search_level_ = 1;
 };
 
 /// The result of fit_surface().
 struct FitResult {
     std::vector<LevelReport> levels;  ///< One per level fitted, in order.
     FittedSurface surface;            ///< The surface of the last level fitted.
-    /// Level 0 only (levels.back().level == 0): the fitted cage corners, in the layout cage's order
-    /// (the cage with these points refines once to surface.control_mesh()). Empty otherwise.
+    /// Level 0 only (levels.back().level == 0): the fitted level-0 control points, in the order of
+    /// the layout cage's corners or of the control mesh's vertices (the cage with these points
+    /// refines once to surface.control_mesh()). Empty otherwise.
     std::vector<Vec3> fitted_corners;
+    /// fit_control_mesh() at level 0: the control mesh with its fitted points (its own faces).
+    /// Empty otherwise.
+    PolygonMesh fitted_cage;
     bool tolerance_met = false;       ///< Tolerance mode: the last level met the tolerance.
     /// Tolerance mode: a level that measured worse than the one before it (also when fitted from
     /// the previous fit), which ended the search; not in `levels`, and `surface` is the previous one.
@@ -179,6 +203,31 @@ struct FitResult {
 /// \throw InvalidInput if options are invalid, or the layout is inconsistent (sizes, patch
 ///        indices, cage check, coordinates outside [0,1]).
 FitResult fit_surface(const layout::QuadLayout& layout, const FitOptions& options = {});
+
+/// Why a control mesh cannot be fitted to a mesh (fit_control_mesh(), `quadcage fit --cage`).
+/// Empty if it can. Checks, in this order: check_polygon_cage() (closed, manifold, oriented, no
+/// repeated or non-finite vertices), one connected component, the same genus as `mesh`, and a
+/// limit surface within reach: its mean distance to `mesh` at most `max_mean_distance` of the
+/// mesh's bounding-box diagonal.
+/// \pre mesh is one closed, connected, orientable manifold component (core::prepare_for_quadding()).
+std::string check_control_mesh(const Mesh& mesh, const PolygonMesh& cage, double max_mean_distance = 0.1);
+
+/// Fits the control points of `cage` refined FitOptions::level times (level 0: the cage's own
+/// vertices; Tolerance mode: levels 0, 1, ... in turn) so that its Catmull-Clark limit surface
+/// matches `mesh`. The same fit as fit_surface() (terms, solver, errors, level sequencing), but
+/// the start comes from where the cage's limit surface lies, not from patch maps: the control
+/// points start at the cage (refined), and every data point's foot is its closest point on that
+/// limit surface (a global search over a tessellation, then Newton steps). From level 2 on a level
+/// starts from the previous fit refined. Deterministic for fixed options.
+/// \pre mesh is one closed, connected, orientable manifold component (core::prepare_for_quadding()).
+/// \throw InvalidInput if the options are invalid or check_control_mesh() reports a problem.
+FitResult fit_control_mesh(const Mesh& mesh, const PolygonMesh& cage, const FitOptions& options = {});
+
+/// The components of a control mesh matched to those of a mesh: result[i] is the component of
+/// `cage` that overlaps `components[i]` most (by the volume shared by their bounding boxes),
+/// with its vertices renumbered from 0 in their order in `cage`.
+/// \throw InvalidInput if the component counts differ or the overlap does not pair them one to one.
+std::vector<PolygonMesh> match_control_mesh(const std::vector<Mesh>& components, const PolygonMesh& cage);
 
 /// Options for measure_fit_error().
 struct MeasureOptions {

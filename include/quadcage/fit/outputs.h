@@ -48,6 +48,10 @@ TessellationChoice choose_tessellation(const FittedSurface& surface, double fit_
 /// \throw InvalidInput (naming path) if the file cannot be written.
 void write_quad_obj(const std::string& path, const subdiv::QuadMesh& mesh);
 
+/// Writes a polygon mesh as OBJ (as write_quad_obj()).
+/// \throw InvalidInput (naming path) if the file cannot be written.
+void write_polygon_obj(const std::string& path, const PolygonMesh& mesh);
+
 /// Writes the tessellation of `choice.segments` of the surface as binary PLY with the per-vertex
 /// `float distance` to `input` (exact closest point).
 /// \throw InvalidInput if the file cannot be written or the input mesh is invalid.
@@ -73,7 +77,8 @@ struct FitOutputs {
     std::vector<std::string> files;  ///< Paths written, in order.
 };
 
-/// Writes fitted_cage.obj, limit.ply, deviation.ply and report.json into `dir` (created if missing).
+/// Writes fitted_cage.obj (result.fitted_cage if set, else the fitted control mesh), limit.ply,
+/// deviation.ply and report.json into `dir` (created if missing).
 /// `input` is the mesh the user gave (deviation.ply carries its vertices; the fit itself was done
 /// on the layout's copy of the same surface).
 /// \throw InvalidInput if the directory or a file cannot be written, or the result is empty.

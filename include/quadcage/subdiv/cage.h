@@ -65,6 +65,22 @@ struct CageRefinement {
 /// \throw InvalidInput if check_cage() reports a problem.
 CageRefinement refine_cage(const Cage& cage);
 
+/// Checks that `cage` is a closed, oriented 2-manifold polygon mesh: finite points; every face has
+/// >= 3 distinct corners in range; every vertex is used; every edge has exactly two faces that walk
+/// it in opposite directions; the faces around every vertex form one fan. Returns an empty string
+/// if so, else the first problem found as a phrase, counting vertices and faces from 1 in file order
+/// ("it is open: the edge between the 4th vertex and 8th vertex has one face ...").
+std::string check_polygon_cage(const PolygonMesh& cage);
+
+/// One Catmull-Clark step on a closed polygon mesh (any face sizes): a simple closed quad mesh with
+/// the same limit surface. level1 points: the cage's vertices first (same order), then one per edge
+/// (in order of first use walking the faces), then one per face. A face with n corners has n
+/// consecutive children; a quad's children follow refine_cage()'s quadrant convention (child 4q+k,
+/// so to_child() holds for all-quad cages), child k of any other face is (corner k, edge point of
+/// side k, face point, edge point of side k-1). stencils as in refine_cage().
+/// \throw InvalidInput if check_polygon_cage() reports a problem.
+CageRefinement refine_polygon_cage(const PolygonMesh& cage);
+
 /// A point on a face of a quad control mesh: face index and its (u, v) in [0,1]^2, corner k of the
 /// face at (0,0), (1,0), (1,1), (0,1) for k = 0..3 (OpenSubdiv's quad parameterisation).
 struct FacePoint {

@@ -52,6 +52,9 @@ std::vector<Vec3> limit_positions(const QuadMesh& cage, int levels);
 /// layout (multi-edges) is written this way too, for people and checkers.
 std::string quad_obj_text(const QuadMesh& mesh, const std::string& comment);
 
+/// The same for a polygon mesh (`f` lines with each face's one-based indices).
+std::string polygon_obj_text(const PolygonMesh& mesh, const std::string& comment);
+
 /// Run-time proof that OpenSubdiv links and works: "OpenSubdiv v3_5_0 (cube refined: 24 faces)",
 /// where the face count comes from refining a cube at run time.
 std::string opensubdiv_version();

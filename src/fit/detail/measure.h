@@ -38,6 +38,11 @@ struct MeasureTimes {
 /// Segments per control face for a tessellation with `cage_segments` per level-0 cage quad side.
 int face_segments(int cage_segments, int level);
 
+/// The level of a 40-quad cage (the layout cage of genus 5) whose refinement has about `faces`
+/// faces, >= 1: face_segments() of it gives a user's control mesh of `faces` faces about as dense
+/// a tessellation as a layout cage of as many faces gets (FittedSurface::search_level()).
+int search_level(int faces);
+
 /// measure_fit_error() with a ready index of the mesh; `level` is the surface's fit level.
 ErrorMeasurement measure(const Mesh& mesh, const accel::ClosestPointIndex& mesh_index, const subdiv::LimitSurface& surface,
                          int level, const MeasureOptions& options, MeasureTimes* times = nullptr);

@@ -1,0 +1,150 @@
+// `quadcage fit MESH --cage CAGE`: a cage we did not make, fitted by our fitter and measured by the
+// independent checker; bad cages exit 3 with one line; nothing is written then, and CAGE is only read.
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <fstream>
+#include <string>
+
+#include "quadcage/core/io.h"
+#include "support/files.h"
+
+namespace quadcage::test {
+namespace {
+
+struct CliRun {
+    int code = -1;
+    std::string log;
+};
+
+CliRun quadcage_cli(const std::string& args, const fs::path& dir) {
+    CliRun r;
+    r.code = run_logged(std::string("'") + QUADCAGE_CLI + "' " + args, dir / "log.txt", &r.log);
+    return r;
+}
+
+fs::path eight() { return fs::path(QUADCAGE_DATA_DIR) / "eight.off"; }
+fs::path eight_quadriflow() { return fs::path(QUADCAGE_DATA_DIR) / "eight_quadriflow.obj"; }
+
+int count_lines(const std::string& s) { return static_cast<int>(std::count(s.begin(), s.end(), '\n')); }
+
+// Writes `cage` as OBJ (`v` and `f` lines, 1-based).
+void write_cage(const fs::path& path, const PolygonMesh& cage) {
+    std::ofstream out(path);
+    out.precision(17);
+    for (const Vec3& p : cage.points) out << "v " << p.x << " " << p.y << " " << p.z << "\n";
+    for (const auto& f : cage.faces) {
+        out << "f";
+        for (int v : f) out << " " << v + 1;
+        out << "\n";
+    }
+}
+
+TEST(CliFitCage, QuadriflowCageOfEightFitsAtLevelZero) {
+    const fs::path dir = scratch_dir("quadcage_fit_cage_");
+    const std::string before = slurp(eight_quadriflow());
+    const fs::path out = dir / "out";
+    const CliRun r = quadcage_cli("fit " + shell_quoted(eight()) + " --cage " + shell_quoted(eight_quadriflow()) +
+                                   " --level 0 -q -o " + shell_quoted(out),
+                               dir);
+    ASSERT_EQ(r.code, 0) << r.log;
+    EXPECT_EQ(slurp(eight_quadriflow()), before) << "the cage file changed";
+    for (const char* f : {"fitted_cage.obj", "limit.ply", "deviation.ply", "report.json"})
+        EXPECT_TRUE(fs::exists(out / f)) << f;
+    // Level 0 fits the cage's own 654 vertices and keeps its 656 quads.
+    const PolygonMesh fitted = read_polygon_mesh((out / "fitted_cage.obj").string());
+    const PolygonMesh given = read_polygon_mesh(eight_quadriflow().string());
+    EXPECT_EQ(fitted.faces, given.faces);
+    const auto report = nlohmann::json::parse(slurp(out / "report.json"));
+    ASSERT_EQ(report["levels"].size(), 1u);
+    const auto& level = report["levels"][0];
+    EXPECT_EQ(level["level"], 0);
+    EXPECT_EQ(level["control_points"], 654);
+    EXPECT_EQ(report["cage"], eight_quadriflow().string());
+    for (const char* side : {"input_to_surface", "surface_to_input"})
+        for (const char* stat : {"rms", "mean", "max"}) EXPECT_TRUE(level["absolute"][side].contains(stat));
+    const double rms = level["relative"]["rms"], hausdorff = level["relative"]["hausdorff"];
+    std::cout << "  eight, QuadriFlow cage, level 0: reported rms " << rms << ", hausdorff " << hausdorff << "\n";
+    EXPECT_LE(rms, 8e-4);
+
+    const std::string why = python_unavailable();
+    if (!why.empty()) GTEST_SKIP() << "check_fit.py not run: " << why;
+    std::string check;
+    ASSERT_EQ(run_logged(shell_quoted(shared_tool("check_fit.py")) + " --input " + shell_quoted(eight()) + " --surface " +
+                             shell_quoted(out / "limit.ply"),
+                         dir / "check_fit.txt", &check),
+              0)
+        << check;
+    const auto measured = nlohmann::json::parse(check.substr(0, check.find('\n')));
+    const double crms = measured["relative"]["rms"], chausdorff = measured["relative"]["hausdorff"];
+    std::cout << "  check_fit.py: rms " << crms << ", hausdorff " << chausdorff << "\n";
+    EXPECT_LE(crms, 8e-4);
+    EXPECT_NEAR(rms, crms, 0.2 * crms);
+    EXPECT_NEAR(hausdorff, chausdorff, 0.2 * chausdorff);
+    fs::remove_all(dir);
+}
+
+// A bad cage: exit 3, one line on stderr naming the cage and the problem, nothing written.
+void expect_rejected(const PolygonMesh& cage, const std::string& words, const std::string& mesh = eight().string()) {
+    const fs::path dir = scratch_dir("quadcage_fit_cage_bad_");
+    const fs::path cage_file = dir / "cage.obj", out = dir / "out";
+    write_cage(cage_file, cage);
+    const std::string before = slurp(cage_file);
+    const CliRun r = quadcage_cli("fit " + shell_quoted(mesh) + " --cage " + shell_quoted(cage_file) + " --level 1 -q -o " +
+                                   shell_quoted(out),
+                               dir);
+    EXPECT_EQ(r.code, 3) << r.log;
+    EXPECT_EQ(count_lines(r.log), 1) << r.log;
+    EXPECT_NE(r.log.find(cage_file.string()), std::string::npos) << r.log;
+    EXPECT_NE(r.log.find(words), std::string::npos) << "expected '" << words << "' in: " << r.log;
+    EXPECT_FALSE(fs::exists(out)) << "a rejected cage must write nothing";
+    EXPECT_EQ(slurp(cage_file), before);
+    fs::remove_all(dir);
+}
+
+TEST(CliFitCage, BadCagesExitThree) {
+    const PolygonMesh qf = read_polygon_mesh(eight_quadriflow().string());
+    PolygonMesh open = qf;
+    open.faces.pop_back();
+    expect_rejected(open, "open");
+    PolygonMesh repeated = qf;
+    repeated.faces[5][2] = repeated.faces[5][0];
+    expect_rejected(repeated, "repeats the");
+    PolygonMesh far = qf;
+    for (Vec3& p : far.points) p.x += 3.0;  // eight's diagonal is 2.9
+    expect_rejected(far, "far from the mesh");
+    // A cube around the eight: closed, but of genus 0.
+    PolygonMesh cube;
+    const BoundingBox b = bounding_box(read_mesh(eight().string()));
+    for (int i = 0; i < 8; ++i)
+        cube.points.push_back({i & 1 ? b.max.x : b.min.x, i & 2 ? b.max.y : b.min.y, i & 4 ? b.max.z : b.min.z});
+    cube.faces = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+    expect_rejected(cube, "genus is 0, the mesh's 2");
+    // Two components for a mesh of one.
+    PolygonMesh two = qf;
+    for (const Vec3& p : cube.points) two.points.push_back(p + Vec3{5, 0, 0});
+    for (const auto& f : cube.faces) two.faces.push_back({f[0] + qf.num_vertices(), f[1] + qf.num_vertices(),
+                                                          f[2] + qf.num_vertices(), f[3] + qf.num_vertices()});
+    expect_rejected(two, "2 connected components, the mesh 1");
+}
+
+TEST(CliFitCage, NanInTheCageExitsThree) {
+    const fs::path dir = scratch_dir("quadcage_fit_cage_nan_");
+    PolygonMesh qf = read_polygon_mesh(eight_quadriflow().string());
+    write_cage(dir / "cage.obj", qf);
+    std::string text = slurp(dir / "cage.obj");
+    text.replace(text.find("v ") + 2, 1, "nan ");  // the first coordinate of the first vertex
+    std::ofstream(dir / "cage.obj") << text;
+    const CliRun r = quadcage_cli("fit " + shell_quoted(eight()) + " --cage " + shell_quoted(dir / "cage.obj") +
+                                   " -q -o " + shell_quoted(dir / "out"),
+                               dir);
+    EXPECT_EQ(r.code, 3) << r.log;
+    EXPECT_NE(r.log.find("NaN"), std::string::npos) << r.log;
+    EXPECT_FALSE(fs::exists(dir / "out"));
+    fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace quadcage::test
