@@ -609,8 +609,14 @@ int run_generate(const GenerateOptions& o) {
         shapes::PlateOptions p;
         p.resolution = o.resolution;
         mesh = shapes::plate_with_holes(o.genus, p);
+    } else if (o.shape == "limbs") {
+        shapes::LimbOptions l;
+        l.limbs = o.limbs;
+        l.subdivisions = o.resolution;
+        l.seed = o.seed;
+        mesh = shapes::body_with_limbs(l);
     } else {
-        throw InvalidInput("unknown shape '" + o.shape + "' (use sphere, torus or plate)");
+        throw InvalidInput("unknown shape '" + o.shape + "' (use sphere, torus, plate or limbs)");
     }
     write_mesh_by_extension(o.output, mesh);
     std::printf("%s: %d vertices, %d triangles\n", o.output.c_str(), mesh.num_vertices(), mesh.num_triangles());

@@ -44,9 +44,11 @@ struct FitCommandOptions {
 int run_fit(const FitCommandOptions& options);
 
 struct GenerateOptions {
-    std::string shape;   ///< "sphere", "torus" or "plate".
+    std::string shape;   ///< "sphere", "torus", "plate" or "limbs".
     int genus = 2;       ///< plate only.
-    int resolution = 2;  ///< plate: grid cells per unit; sphere: subdivisions; torus: segments / 8.
+    int resolution = 2;  ///< plate: grid cells per unit; sphere, limbs: subdivisions; torus: segments / 8.
+    int limbs = 4;       ///< limbs only: protrusions.
+    unsigned seed = 1;   ///< limbs only: which figure.
     std::string output;
 };
 int run_generate(const GenerateOptions& options);

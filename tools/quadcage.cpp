@@ -85,12 +85,17 @@ int main(int argc, char** argv) {
 
     GenerateOptions gen;
     CLI::App* gen_cmd = app.add_subcommand("generate", "Write a closed test surface of known genus.");
-    gen_cmd->add_option("SHAPE", gen.shape, "sphere, torus or plate (a thickened plate with holes)")
+    gen_cmd->add_option("SHAPE", gen.shape,
+                        "sphere, torus, plate (a thickened plate with holes) or limbs (a genus-0 body with\n"
+                        "long limbs, like a cartoon figure)")
         ->required()
-        ->check(CLI::IsMember({"sphere", "torus", "plate"}));
+        ->check(CLI::IsMember({"sphere", "torus", "plate", "limbs"}));
     gen_cmd->add_option("--genus,-g", gen.genus, "Number of holes of the plate")->check(CLI::Range(0, 200));
-    gen_cmd->add_option("--resolution,-r", gen.resolution, "Mesh resolution (plate: cells per unit)")
+    gen_cmd->add_option("--resolution,-r", gen.resolution,
+                        "Mesh resolution (plate: cells per unit; sphere, limbs: icosphere subdivisions)")
         ->check(CLI::Range(1, 64));
+    gen_cmd->add_option("--limbs", gen.limbs, "limbs: number of limbs (default 4)")->check(CLI::Range(0, 32));
+    gen_cmd->add_option("--seed", gen.seed, "limbs: which figure (default 1)");
     gen_cmd->add_option("-o,--output", gen.output, "Output file (.obj or .ply)")->required();
 
     SubdivideOptions sub;

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdint>
 #include <map>
+#include <random>
 #include <string>
 #include <unordered_map>
 #include <utility>
@@ -274,6 +275,39 @@ Mesh plate_with_holes(int genus, const PlateOptions& options) {
     if (options.bend) {
         const PlateBend bend(layout.width, layout.height, options.thickness);
         for (Vec3& p : mesh.points) p = bend(p);
+    }
+    return mesh;
+}
+
+Mesh body_with_limbs(const LimbOptions& o) {
+    require(o.limbs >= 0 && o.limbs <= 32, "body_with_limbs: limbs must be in 0..32, got " + std::to_string(o.limbs));
+    require(o.subdivisions >= 1 && o.subdivisions <= 8,
+            "body_with_limbs: subdivisions must be in 1..8, got " + std::to_string(o.subdivisions));
+    require(std::isfinite(o.max_length) && o.max_length > 0, "body_with_limbs: max_length must be positive and finite");
+    std::mt19937 rng(o.seed);
+    // Uniform and normal numbers from the engine's raw output (its sequence is fixed by the
+    // standard; the <random> distributions are not).
+    auto uniform = [&] { return (rng() + 0.5) / 4294967296.0; };
+    auto normal = [&] { return std::sqrt(-2 * std::log(uniform())) * std::cos(2 * 3.14159265358979323846 * uniform()); };
+    struct Limb {
+        Vec3 axis;
+        double length, cos_width;
+    };
+    std::vector<Limb> limbs;
+    for (int k = 0; k < o.limbs; ++k) {
+        Vec3 d{normal(), normal(), normal()};
+        d = d / norm(d);
+        const double length = 1.0 + (o.max_length - 1.0) * uniform();
+        limbs.push_back({d, length, 0.93 + 0.055 * uniform()});
+    }
+    Mesh mesh = icosphere(o.subdivisions, 1.0);
+    for (Vec3& p : mesh.points) {
+        double r = 1.0;
+        for (const Limb& l : limbs) {
+            const double c = dot(p, l.axis);
+            if (c > l.cos_width) r += l.length * std::pow((c - l.cos_width) / (1 - l.cos_width), 0.6);
+        }
+        p = Vec3{p.x * (1 + 0.3 * p.z), p.y * 0.8, p.z * 1.3} * r;
     }
     return mesh;
 }

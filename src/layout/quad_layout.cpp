@@ -1109,49 +1109,89 @@ Network network_of_cube(Builder& b, const Say& say) {
     // Octant (sx, sy, sz) -> corner index: bottom ring (sz < 0) j = 0..3, top ring 4 + j, with j
     // running (-,-), (+,-), (+,+), (-,+): counter-clockwise about e3.
     const int sx[4] = {-1, 1, 1, -1}, sy[4] = {-1, -1, 1, 1};
-    std::array<int, 8> corner{};
-    std::vector<char> taken(m.num_vertices(), 0);
-    for (int k = 0; k < 8; ++k) {
+    auto score = [&](int v, int k) {
+        const Eigen::Vector3d d = Eigen::Vector3d(m.points[v].x, m.points[v].y, m.points[v].z) - mean;
         const int j = k % 4;
         const double sz = k < 4 ? -1 : 1;
+        return sx[j] * d.dot(e1) / scale(0) + sy[j] * d.dot(e2) / scale(1) + sz * d.dot(e3) / scale(2);
+    };
+    // The best-scoring vertex for corner k among those `allowed` and not taken yet.
+    std::array<int, 8> corner{};
+    std::vector<char> taken(m.num_vertices(), 0);
+    auto pick_corner = [&](int k, const std::function<bool(int)>& allowed) {
         double best = -kInf;
         int pick = -1;
-        for (int v = 0; v < m.num_vertices(); ++v) {
-            if (taken[v]) continue;
-            const Eigen::Vector3d d = Eigen::Vector3d(m.points[v].x, m.points[v].y, m.points[v].z) - mean;
-            const double score =
-                sx[j] * d.dot(e1) / scale(0) + sy[j] * d.dot(e2) / scale(1) + sz * d.dot(e3) / scale(2);
-            if (score > best) {
-                best = score;
-                pick = v;
-            }
-        }
+        for (int v = 0; v < m.num_vertices(); ++v)
+            if (!taken[v] && allowed(v) && score(v, k) > best) best = score(v, k), pick = v;
+        QC_CHECK(pick >= 0, "cube: no vertex left for corner " + std::to_string(k));
         corner[k] = pick;
         taken[pick] = 1;
-    }
+    };
+    for (int k = 0; k < 4; ++k) pick_corner(k, [](int) { return true; });
+
     Network net;
-    net.corners.assign(corner.begin(), corner.end());
-    // Arcs in order: bottom ring, top ring, verticals; each avoids the earlier ones.
-    std::vector<std::pair<int, int>> plan;
-    for (int j = 0; j < 4; ++j) plan.push_back({corner[j], corner[(j + 1) % 4]});
-    for (int j = 0; j < 4; ++j) plan.push_back({corner[4 + j], corner[4 + (j + 1) % 4]});
-    for (int j = 0; j < 4; ++j) plan.push_back({corner[j], corner[4 + j]});
     std::vector<char> is_corner(m.num_vertices(), 0);
-    for (int c : corner) is_corner[c] = 1;
-    say("cube edges");
-    for (const auto& [from, to] : plan) {
+    auto route = [&](int from, int to, const char* what) {
         b.split_chords();
         std::vector<char> block = b.blocked();
-        for (size_t v = 0; v < is_corner.size(); ++v) block[v] = block[v] || is_corner[v];
+        for (size_t v = 0; v < block.size(); ++v) block[v] = block[v] || (v < is_corner.size() && is_corner[v]);
         const auto cost = b.cost_near(block, nullptr, kAdjacency);
         const std::vector<int> leave = b.s_.ring(from), arrive = b.s_.ring(to);
         const std::vector<int> interior = b.sector_path(from, leave, to, arrive, block, cost, nullptr);
-        QC_CHECK(!interior.empty(), "cube: an edge could not be routed");
+        QC_CHECK(!interior.empty(), std::string("cube: an arc of the ") + what + " could not be routed");
         Cycle arc{from};
         arc.insert(arc.end(), interior.begin(), interior.end());
         arc.push_back(to);
         net.arcs.push_back(b.add_curve(arc, false));
+    };
+    // The bottom ring first. It cuts the sphere into two disks; the top corners are chosen in the
+    // one that holds the top of the shape, then the four verticals run into it from the ring as
+    // disjoint slits, and only then the top ring: the top corners lie on the boundary of the disk
+    // left by the slits in the ring's cyclic order, so each top arc joins two consecutive ones
+    // inside one region and every step is routable on any sphere. (Choosing the top corners by
+    // their octant alone and routing the top ring before the verticals failed on a figure with
+    // limbs: a top corner fell on the bottom's side, or the top ring ran against the bottom
+    // ring's order, and a vertical found no way.)
+    say("cube edges");
+    for (int k = 0; k < 4; ++k) is_corner[corner[k]] = 1;
+    for (int j = 0; j < 4; ++j) route(corner[j], corner[(j + 1) % 4], "bottom ring");
+    std::vector<std::vector<int>> ring;
+    for (int id : net.arcs) ring.push_back(b.curves_[id]);
+    std::vector<int> label;
+    QC_CHECK(detail::face_components(b.s_, detail::cut_half_edges(b.s_, ring), &label) == 2,
+             "cube: the bottom ring does not cut the sphere in two");
+    const Mesh& cut_mesh = b.s_.mesh();
+    const std::vector<char> on_ring = b.blocked();
+    std::vector<int> side_of(cut_mesh.num_vertices(), -1);
+    for (int t = 0; t < cut_mesh.num_triangles(); ++t)
+        for (int v : cut_mesh.triangles[t]) side_of[v] = label[t];
+    int top = -1;
+    double highest = -kInf;
+    for (int v = 0; v < cut_mesh.num_vertices(); ++v) {
+        const Eigen::Vector3d d(cut_mesh.points[v].x - mean.x(), cut_mesh.points[v].y - mean.y(), cut_mesh.points[v].z - mean.z());
+        if (!on_ring[v] && d.dot(e3) > highest) highest = d.dot(e3), top = v;
     }
+    QC_CHECK(top >= 0, "cube: every vertex is on the bottom ring");
+    const int top_side = side_of[top];
+    // Top corners keep away from the ring (at least a third of the farthest distance from it on
+    // that side): one next to it can be walled in by the ring and a vertical.
+    std::vector<int> ring_vertices;
+    for (int v = 0; v < cut_mesh.num_vertices(); ++v)
+        if (on_ring[v]) ring_vertices.push_back(v);
+    const std::vector<double> from_ring =
+        distances_from(b.s_, std::vector<char>(cut_mesh.num_vertices(), 0), ring_vertices);
+    double farthest = 0;
+    for (int v = 0; v < cut_mesh.num_vertices(); ++v)
+        if (side_of[v] == top_side && !on_ring[v]) farthest = std::max(farthest, from_ring[v]);
+    taken.resize(cut_mesh.num_vertices(), 0);
+    for (int k = 4; k < 8; ++k) {
+        pick_corner(k, [&](int v) { return !on_ring[v] && side_of[v] == top_side && from_ring[v] >= farthest / 3; });
+        is_corner.resize(cut_mesh.num_vertices(), 0);
+        is_corner[corner[k]] = 1;
+    }
+    net.corners.assign(corner.begin(), corner.end());
+    for (int j = 0; j < 4; ++j) route(corner[j], corner[4 + j], "verticals");
+    for (int j = 0; j < 4; ++j) route(corner[4 + j], corner[4 + (j + 1) % 4], "top ring");
     return net;
 }
 

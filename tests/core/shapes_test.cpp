@@ -1,4 +1,5 @@
 #include "quadcage/core/shapes.h"
+#include "quadcage/core/validate.h"
 
 #include <gtest/gtest.h>
 
@@ -465,6 +466,38 @@ TEST(ShapesBadArguments, ThrowInvalidInput) {
     EXPECT_THROW(shapes::plate_with_holes(1, PlateOptions{2, 1e300, true}), InvalidInput);
     EXPECT_THROW(shapes::plate_with_holes(std::numeric_limits<int>::max()), InvalidInput);
     EXPECT_THROW(shapes::plate_with_holes(1, PlateOptions{1 << 20, 0.6, true}), InvalidInput);
+}
+
+}  // namespace
+}  // namespace quadcage
+
+namespace quadcage {
+namespace {
+
+TEST(ShapesLimbs, ClosedGenusZeroDeterministicAndLimbsReachOut) {
+    for (unsigned seed : {1u, 7u, 23u}) {
+        shapes::LimbOptions o;
+        o.seed = seed;
+        o.limbs = 5;
+        const Mesh m = shapes::body_with_limbs(o);
+        EXPECT_EQ(m.num_triangles(), 20 * 256);
+        const ValidationReport r = validate(m);
+        ASSERT_TRUE(r.quaddable()) << r.error_summary();
+        ASSERT_EQ(r.components.size(), 1u);
+        EXPECT_EQ(r.components[0].genus, 0);
+        // The body is about 1.3 across; limbs reach at least 1 body radius further out.
+        double reach = 0;
+        for (const Vec3& p : m.points) reach = std::max(reach, norm(p));
+        EXPECT_GT(reach, 2.0) << "seed " << seed;
+        const Mesh again = shapes::body_with_limbs(o);
+        EXPECT_EQ(again.points, m.points);
+    }
+    shapes::LimbOptions none;
+    none.limbs = 0;
+    EXPECT_EQ(validate(shapes::body_with_limbs(none)).components[0].genus, 0);
+    shapes::LimbOptions bad;
+    bad.limbs = 33;
+    EXPECT_THROW(shapes::body_with_limbs(bad), InvalidInput);
 }
 
 }  // namespace

@@ -72,4 +72,20 @@ struct PlateOptions {
 ///      most 1e8 triangles.
 Mesh plate_with_holes(int genus, const PlateOptions& options = {});
 
+/// Options for body_with_limbs().
+struct LimbOptions {
+    int limbs = 4;            ///< Protrusions, 0..32.
+    int subdivisions = 4;     ///< Of the icosphere it is made from (20 * 4^s triangles), 1..8.
+    unsigned seed = 1;        ///< Chooses the limbs' directions, lengths and widths.
+    double max_length = 4.0;  ///< Longest possible limb, in body radii (> 0, finite).
+};
+
+/// A genus-0 figure with limbs, the shape class of cartoon characters and animals: an icosphere
+/// squashed into an uneven ellipsoid (x by 1 + 0.3 z, y by 0.8, z by 1.3) whose points within a
+/// cone around each of `limbs` random directions are pushed out radially, by up to 1..max_length
+/// body radii at the cone's axis (cone half-angles 10-21 degrees). Every direction and size comes
+/// from a std::mt19937 seeded with `seed` (the same figure everywhere). Closed, manifold, genus 0.
+/// \throw InvalidInput if the options are out of range.
+Mesh body_with_limbs(const LimbOptions& options = {});
+
 }  // namespace quadcage::shapes
