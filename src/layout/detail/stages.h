@@ -1,0 +1,140 @@
+#pragma once
+// The stages of build_quad_layout() (paper, Algorithm 1; design.md §2 and §4) and what they share:
+// the pieces of the cut surface (pieces.cpp), Algorithm 1's S-cycles (s_cycles.cpp), the S-cycles
+// from the handle loops (handle_loop_s_cycles.cpp), T-shirts and handles (tshirts_and_handles.cpp),
+// the torus and the cube (torus_and_cube.cpp). Private to src/layout.
+
+#include <array>
+#include <functional>
+#include <limits>
+#include <map>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "detail/curves.h"
+
+namespace quadcage::layout::detail {
+
+/// Progress lines.
+using Say = std::function<void(const std::string&)>;
+inline constexpr double kInf = std::numeric_limits<double>::infinity();
+/// Extra cost (in edge lengths) of walking next to an existing curve; see Builder::cost_near().
+inline constexpr double kAdjacency = 4.0;
+/// Times a search may open the walls around it (split_chords_around) before it gives up.
+inline constexpr int kRoomAttempts = 24;
+
+/// The layout curves, as indices into a Builder's curves (which follow every split), plus the
+/// corners they carry.
+struct Network {
+    std::vector<int> corners;                              // mesh vertices
+    std::vector<std::pair<int, std::vector<int>>> closed;  // closed curve -> its corners (cut there)
+    std::vector<int> arcs;                                 // open curves from a corner to a corner
+    std::vector<int> s_cycles;                             // Algorithm 1's S_i (g >= 2)
+};
+
+/// One side of a closed curve that bounds a piece: the curve and which side faces the piece.
+struct Hole {
+    int curve = -1;
+    int side = 0;
+};
+
+/// The pieces cut out by closed curves `ids`, and per piece the curves around it, facing it.
+struct Cut {
+    int count = 0;  // pieces
+    std::vector<int> label;
+    std::map<int, std::vector<Hole>> holes;
+};
+
+/// The pieces of Algorithm 1's cut, each with the S-cycles around it.
+struct Pieces {
+    std::vector<std::vector<Hole>> holes;  // per piece: the S-cycles around it, facing it
+};
+
+// ---- The cut surface: pieces, holes, helpers (pieces.cpp)
+
+/// " (N triangles)": how far the surface has been refined, for progress messages.
+std::string surface_size(const Builder& b);
+
+/// Length of a vertex path along mesh edges.
+double path_length(const Mesh& m, const std::vector<int>& p);
+
+/// A vertex on both cycles (their crossing), or -1.
+int common_vertex(const Cycle& a, const Cycle& b);
+
+/// Position along a closed curve of the vertex at `fraction` of its length, walking from index i0.
+int vertex_at_fraction(const Mesh& m, const Cycle& c, size_t i0, double fraction);
+
+/// Triangle labels of the pieces cut out by the given closed curves.
+int label_pieces(const Builder& b, const std::vector<int>& curve_ids, std::vector<int>* label);
+
+/// Triangle on side `side` of closed curve c: side 0 has the half-edge c[0] -> c[1], side 1 its twin.
+int triangle_beside(const Surface& s, const Cycle& c, int side);
+
+/// The neighbours of x (on closed curve c) strictly inside the side of c whose triangles carry
+/// `piece`, in rotation (counter-clockwise) order.
+std::vector<int> side_toward(const Surface& s, const Cycle& c, int x, const std::vector<int>& label,
+                             int piece);
+
+/// Vertices that touch no triangle of `piece`.
+std::vector<char> outside_piece(const Surface& s, const std::vector<int>& label, int piece);
+
+/// Elements [from, to) of v, clamped to its range.
+std::vector<int> slice(const std::vector<int>& v, int from, int to);
+
+/// Position of x in v, or -1.
+int index_in(const std::vector<int>& v, int x);
+
+/// Distances from `vertices` along mesh edges, entering no vertex marked in `block`.
+std::vector<double> distances_from(const Surface& s, const std::vector<char>& block, const std::vector<int>& vertices);
+
+/// The pieces cut out by the closed curves `ids`, with the holes of each.
+Cut cut_by(const Builder& b, const std::vector<int>& ids);
+
+/// The pieces cut out by the 4g-4 S-cycles; checks there are 2g-2 annuli and g-1 four-holed spheres.
+Pieces find_pieces(const Builder& b, const std::vector<int>& s_ids, int g);
+
+// ---- S-cycles (s_cycles.cpp, handle_loop_s_cycles.cpp)
+
+/// Algorithm 1 (paper §4): 4g-4 cycles S_i, each crossing the orthogonal system once, on an arc of
+/// a b-curve: one per arc of b1 and bg, two per arc of the middle b's. Returns their curve ids.
+std::vector<int> place_s_cycles(Builder& b, int g, const Say& say);
+
+/// S-cycles from the handle loops (an alternative to Algorithm 1 that gives the same pieces):
+/// each handle loop a_i becomes a handle (annulus) between two parallel S-cycles; the rest, a
+/// sphere with 2g holes, is cut into g-1 T-shirts by g-2 more annuli (cut_tshirt), the T-shirts
+/// taking the holes in the order of tshirt_plan(); once a cut of the plan fails, each T-shirt takes
+/// the first of a few compact choices (tshirt_choices(): holes near each other for the first, else
+/// the last annulus and two holes near it) that cuts. Areas aim at an even share per quad
+/// (a handle 2, a T-shirt 6). Algorithm 1's S-cycles all cross the orthogonal system once, so on a
+/// surface whose handles hang off one body they wind round the body side by side in stacks.
+/// Returns the S-cycles' curve ids, or nothing if some curve cannot be placed (b is then unchanged).
+std::optional<std::vector<int>> tube_s_cycles(Builder& b, const std::vector<int>& loops, int g, const Say& say);
+
+// ---- T-shirts and handles (tshirts_and_handles.cpp)
+
+/// Routes a closed ring through corners x[0..3], corner j on hole j, inside the piece beside the
+/// holes, one open curve per arc (added to b). With face_right the ring's face lies to the right of
+/// x0 -> x1 -> x2 -> x3 at every corner, else to the left; at each corner the face sector (between
+/// the arriving and the leaving arc) is kept clear of the hole: design.md §2, "Routing a ring".
+/// Returns the new curve ids, or nothing if some arc cannot be routed.
+std::optional<std::vector<int>> route_ring(Builder& b, const std::vector<int>& s_ids,
+                                           const std::array<Hole, 4>& holes, const std::array<int, 4>& x,
+                                           bool face_right, double* length);
+
+/// Genus >= 2: Algorithm 1, then handles (2 quads) and T-shirts (6 quads).
+Network network_of_handles_and_tshirts(Builder& b, int g, const std::vector<int>& handle_loops,
+                                        bool from_handle_loops, const Say& say);
+
+// ---- Genus 0 and 1 (torus_and_cube.cpp)
+
+/// Genus 1 (Remark 1): two disjoint meridians (a1 and a parallel copy) and two disjoint longitudes
+/// (b1 and a parallel copy); each meridian crosses each longitude once: 4 corners of degree 4.
+Network network_of_torus(Builder& b, const Say& say);
+
+/// Genus 0: a cube. Corners at the extremes of the 8 octant directions of the principal frame:
+/// the bottom ring, then 4 vertical arcs into the other side, then the top ring through their ends.
+Network network_of_cube(Builder& b, const Say& say);
+
+}  // namespace quadcage::layout::detail

@@ -1,0 +1,492 @@
+// S-cycles from the handle loops: two S-cycles parallel to each handle loop, then T-shirts cut off
+// the body one at a time (QuadLayoutOptions::s_cycles_from_handle_loops).
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "detail/curves.h"
+#include "detail/patches.h"
+#include "detail/stages.h"
+#include "detail/surface.h"
+#include "quadcage/core/errors.h"
+
+namespace quadcage::layout::detail {
+
+namespace {
+
+// How strongly a level-set loop keeps to its level: an edge costs its length times
+// 1 + kLevelStick * |u - level| (u is a distance ratio in [0, 1], or a distance over a width).
+constexpr double kLevelStick = 20.0;
+
+// How strongly a tree's path keeps away from the other tree: an edge within `reach` of it costs
+// its length times 1 + kShun * (1 - distance / reach).
+constexpr double kShun = 10.0;
+
+// How many choices of holes for the next T-shirt the handle-loop S-cycles try when the plan
+// fails, and up to how many holes the plan is made (one bit per hole).
+constexpr size_t kTshirtChoices = 4;
+constexpr int kMaxPlannedHoles = 62;
+
+// A closed curve near the level set {u = level}: it leaves x, the vertex of `cut` whose u is
+// nearest the level, on one side of the cut and comes back on the other, so it crosses the cut
+// once; it avoids `wall`, the rest of the cut and where |u - level| > band. Edges cost their length times
+// 1 + kLevelStick * |u - level| / scale; x is cut[first] or later. Empty if there is no such curve.
+Cycle level_loop(const Builder& b, const std::vector<double>& u, double level, double scale, double band,
+                 const std::vector<int>& cut, std::vector<char> wall, size_t first = 1) {
+    first = std::max<size_t>(first, 1);
+    if (first + 1 >= cut.size()) return {};
+    size_t at = first;
+    for (size_t i = first; i + 1 < cut.size(); ++i)
+        if (std::abs(u[cut[i]] - level) < std::abs(u[cut[at]] - level)) at = i;
+    const int x = cut[at];
+    for (int v : cut) wall[v] = 1;  // x too: the search leaves and enters it through its sectors
+    for (size_t v = 0; v < wall.size(); ++v)
+        if (!(std::abs(u[v] - level) <= band)) wall[v] = 1;  // +inf too
+    const Surface& s = b.s_;
+    const auto sec = sectors(s, x, cut[at - 1], cut[at + 1]);
+    const auto cost = [&s, &u, level, scale](int h) {
+        const double du = std::abs(u[s.from(h)] - level) + std::abs(u[s.to(h)] - level);
+        return s.length(h) * (1 + kLevelStick * 0.5 * du / scale);
+    };
+    const std::vector<int> path = b.sector_path(x, sec[0], x, sec[1], wall, cost, nullptr);
+    if (path.empty()) return {};
+    Cycle loop{x};
+    loop.insert(loop.end(), path.begin(), path.end());
+    return loop;
+}
+
+// The level below which `share` of the area of the triangles marked in `tri` lies (triangles at
+// the mean u of their corners).
+double area_level(const Surface& s, const std::vector<double>& u, const std::vector<char>& tri, double share) {
+    std::vector<std::pair<double, double>> by_level;  // (mean u, area)
+    double total = 0;
+    for (size_t t = 0; t < tri.size(); ++t) {
+        if (!tri[t]) continue;
+        const auto& f = s.mesh().triangles[t];
+        const double ut = (u[f[0]] + u[f[1]] + u[f[2]]) / 3;
+        if (!(ut < kInf)) continue;
+        const double a = triangle_area(s.mesh(), static_cast<int>(t));
+        by_level.push_back({ut, a});
+        total += a;
+    }
+    std::sort(by_level.begin(), by_level.end());
+    double run = 0;
+    for (const auto& [ut, a] : by_level) {
+        run += a;
+        if (run >= share * total) return ut;
+    }
+    return by_level.empty() ? 0.5 : by_level.back().first;
+}
+
+// The handle annulus round handle loop m: two S-cycles parallel to m, one on each side at distance
+// about `width` (the distance from m on that side). Adds them to b and to s_ids; returns whether
+// they bound an annulus round m.
+bool tube_annulus(Builder& b, int m, const std::vector<int>& loops, double width, std::vector<int>* s_ids,
+                  std::array<int, 2>* made) {
+    const Surface& s = b.s_;
+    const Cycle c = b.curves_[m];  // a copy: add_curve() below may move the curves
+    for (int side = 0; side < 2; ++side) {
+        std::vector<char> block = b.blocked();
+        for (int l : loops)
+            for (int v : b.curves_[l]) block[v] = 1;
+        PathSearch q;
+        q.blocked = &block;
+        for (int v : c) {
+            const auto [p, n] = neighbours_on(c, v);
+            const auto sec = sectors(s, v, p, n);  // named: a temporary's [side] would dangle
+            for (int w : sec[side])
+                if (!block[w]) q.sources.push_back({w, norm(s.point(w) - s.point(v))});
+        }
+        q.max_distance = 4 * width;
+        const PathResult r = detail::dijkstra(s, q);
+        int z = -1;
+        for (int v = 0; v < s.num_vertices(); ++v)
+            if (r.distance[v] < kInf &&
+                (z < 0 || std::abs(r.distance[v] - 2 * width) < std::abs(r.distance[z] - 2 * width)))
+                z = v;
+        if (z < 0) return false;
+        const Cycle loop = level_loop(b, r.distance, width, width, 0.75 * width, r.path_to(s, z), block);
+        if (loop.empty()) return false;
+        (*made)[side] = b.add_curve(loop);
+        s_ids->push_back((*made)[side]);
+    }
+    // The two must bound one piece (the annulus) that holds m and no other curve.
+    const Cut cut = cut_by(b, *s_ids);
+    const auto& around = cut.holes.at(cut.label[triangle_beside(s, c, 0)]);
+    return around.size() == 2 && around[0].curve != around[1].curve &&
+           std::all_of(around.begin(), around.end(),
+                       [&](const Hole& h) { return h.curve == (*made)[0] || h.curve == (*made)[1]; });
+}
+
+// The body left after `ids`: the piece beside `last` (the outer S-cycle of the last body annulus)
+// that is not that annulus, or, before any (last < 0), the one piece with 2g holes. -1: none.
+int body_piece(const Cut& cut, int last, int g) {
+    for (const auto& [p, hs] : cut.holes) {
+        const bool has_last = std::any_of(hs.begin(), hs.end(), [last](const Hole& h) { return h.curve == last; });
+        if ((last < 0 && hs.size() == static_cast<size_t>(2 * g)) || (last >= 0 && has_last && hs.size() > 2))
+            return p;
+    }
+    return -1;
+}
+
+// One T-shirt cut off the body, and the annulus beyond it.
+struct BodyCut {
+    Builder b;
+    std::vector<int> ids;  // every S-cycle so far
+    int outer = -1;        // the annulus' S-cycle on the side of the body left
+};
+
+// Cuts a T-shirt holding holes C off the body (the piece beside `last`, or the first body), with
+// an annulus separating it from holes D. `units` is the body's share of the area in quads (the
+// T-shirt takes 6, the annulus 2), `unit` one quad's area. C's holes are joined into a tree by
+// shortest paths, and D's likewise, each keeping away from the other: the body less the two trees
+// is an annulus, so a loop in it that crosses a path from one tree to the other once separates C
+// from D, whatever the level sets of d_C / (d_C + d_D) do round holes of D near C. When no loop
+// fits, short cuts and chords between the trees are split for room (at most 4 times).
+std::optional<BodyCut> cut_tshirt(Builder w, std::vector<int> ids, int last, const std::vector<int>& C,
+                                  const std::vector<int>& D, int g, double units, double unit) {
+    const Surface& s = w.s_;
+    const double reach = std::sqrt(unit);  // how far a tree keeps off the other
+    for (int room = 0; room <= 4; ++room) {
+        const Cut cut = cut_by(w, ids);
+        const int body = body_piece(cut, last, g);
+        if (body < 0) return std::nullopt;
+        const std::vector<char> block = outside_piece(s, cut.label, body);
+        std::vector<char> tri(cut.label.size(), 0);
+        for (size_t t = 0; t < cut.label.size(); ++t) tri[t] = cut.label[t] == body;
+        auto distance_from = [&](const std::vector<int>& vertices) { return distances_from(s, block, vertices); };
+        std::vector<Cycle> joins;  // the trees' paths: chords between them are split for room
+        auto join = [&](const std::vector<int>& curves, const std::vector<char>& avoid,
+                        const std::vector<double>& shun) -> std::optional<std::vector<int>> {
+            std::vector<int> tree = w.curves_[curves[0]];
+            for (size_t j = 1; j < curves.size(); ++j) {
+                PathSearch q;
+                q.blocked = &avoid;
+                q.cost = [&s, &shun, reach](int h) {
+                    const double d = 0.5 * (shun[s.from(h)] + shun[s.to(h)]);
+                    return s.length(h) * (1 + kShun * std::max(0.0, 1 - d / reach));
+                };
+                for (int v : tree) q.sources.push_back({v, 0.0});
+                for (int v : w.curves_[curves[j]]) q.targets.push_back({v, 0.0});
+                const PathResult r = detail::dijkstra(s, q);
+                if (r.target < 0) return std::nullopt;
+                const std::vector<int> path = r.path_to(s, r.target);
+                joins.push_back(path);
+                tree.insert(tree.end(), path.begin(), path.end());
+                tree.insert(tree.end(), w.curves_[curves[j]].begin(), w.curves_[curves[j]].end());
+            }
+            return tree;
+        };
+        // C's tree keeps a vertex off D's holes and shuns them; D's keeps a vertex off C's tree
+        // and shuns it.
+        std::vector<char> away = block;
+        std::vector<int> d_holes;
+        for (int c : D)
+            for (int v : w.curves_[c]) {
+                d_holes.push_back(v);
+                away[v] = 1;
+                for (int x : s.ring(v)) away[x] = 1;
+            }
+        for (int c : C)
+            for (int v : w.curves_[c]) away[v] = block[v];
+        const auto c_tree = join(C, away, distance_from(d_holes));
+        if (!c_tree) {
+            if (w.split_chords(joins) == 0) return std::nullopt;
+            continue;
+        }
+        const std::vector<int>& core = *c_tree;
+        const std::vector<double> d_c = distance_from(core);
+        std::vector<char> off_c = block;
+        for (int v : core) off_c[v] = 1;
+        std::vector<char> near_c = off_c;
+        for (int v : core)
+            for (int x : s.ring(v)) near_c[x] = 1;
+        for (int c : D)
+            for (int v : w.curves_[c]) near_c[v] = 0;
+        const auto d_tree = join(D, near_c, d_c);
+        if (!d_tree) {
+            if (w.split_chords(joins) == 0) return std::nullopt;
+            continue;
+        }
+        const std::vector<int>& d_vertices = *d_tree;
+        const std::vector<double> d_d = distance_from(d_vertices);
+        std::vector<double> u(s.num_vertices(), kInf);
+        for (int v = 0; v < s.num_vertices(); ++v)
+            if (!block[v] && d_c[v] < kInf && d_d[v] < kInf && d_c[v] + d_d[v] > 0) u[v] = d_c[v] / (d_c[v] + d_d[v]);
+        const double lo0 = area_level(s, u, tri, 6 / units), hi0 = area_level(s, u, tri, 8 / units);
+        PathSearch q;
+        q.blocked = &block;
+        for (int v : core) q.sources.push_back({v, 0.0});
+        for (int v : d_vertices) q.targets.push_back({v, 0.0});
+        const PathResult bridge = detail::dijkstra(s, q);
+        if (bridge.target < 0) return std::nullopt;
+        const std::vector<int> cut_path = bridge.path_to(s, bridge.target);
+        // Lower levels if the loops take in holes of D that lie in C's region (islands).
+        for (const double f : {1.0, 0.6, 0.35, 0.2}) {
+            BodyCut out{w, ids};
+            Builder& trial = out.b;
+            std::vector<char> wall = trial.blocked();  // obstacle curves, C's tree and D's
+            for (size_t v = 0; v < wall.size(); ++v) wall[v] = wall[v] || off_c[v];
+            for (int v : d_vertices) wall[v] = 1;
+            const Cycle inner = level_loop(trial, u, f * lo0, 1.0, kInf, cut_path, wall);
+            if (inner.empty()) continue;
+            for (int v : inner) wall[v] = 1;
+            size_t crossed = 0;  // where inner crosses the cut: outer crosses it farther on
+            while (crossed < cut_path.size() && std::find(inner.begin(), inner.end(), cut_path[crossed]) == inner.end())
+                ++crossed;
+            const Cycle outer = level_loop(trial, u, f * hi0, 1.0, kInf, cut_path, wall, crossed + 1);
+            if (outer.empty()) continue;
+            const int a = trial.add_curve(inner);
+            out.outer = trial.add_curve(outer);
+            out.ids.push_back(a);
+            out.ids.push_back(out.outer);
+            // The piece beside `inner` on C's side must have C and inner round it, the piece
+            // between inner and outer no other hole.
+            const Cut after = cut_by(trial, out.ids);
+            int shirt = -1, ring = -1;
+            for (int side = 0; side < 2; ++side) {
+                const int p = after.label[triangle_beside(s, trial.curves_[a], side)];
+                const auto& hs = after.holes.at(p);
+                if (hs.size() == 4 && std::all_of(C.begin(), C.end(), [&](int c) {
+                        return std::any_of(hs.begin(), hs.end(), [c](const Hole& h) { return h.curve == c; });
+                    }))
+                    shirt = p;
+                else if (hs.size() == 2)
+                    ring = p;
+            }
+            const auto& beside = trial.curves_[out.outer];
+            const bool outer_on_ring = ring >= 0 && (after.label[triangle_beside(s, beside, 0)] == ring ||
+                                                     after.label[triangle_beside(s, beside, 1)] == ring);
+            if (shirt >= 0 && ring >= 0 && outer_on_ring) return out;
+        }
+        // No loop fits between the trees: split the edges of a short cut, else the chords
+        // between the trees, and try again.
+        if (cut_path.size() < 6) {
+            std::vector<std::pair<int, int>> edges;
+            for (size_t i = 0; i + 1 < cut_path.size(); ++i) edges.push_back({cut_path[i], cut_path[i + 1]});
+            w.split_curve_edges(edges);
+        } else if (w.split_chords(joins) == 0) {
+            return std::nullopt;
+        }
+    }
+    return std::nullopt;
+}
+
+// The order in which T-shirts take the body's 2g holes (indices into `gap`, their distances in
+// the body): g-1 groups of 3, 2, ..., 2, 3, so that body annulus k separates A_k, the holes of the
+// first k groups, from the rest. Minimizes the sum over k of sum_{a in A_k, b not} 1/gap(a, b)^2:
+// holes close together go to the same side of every body annulus, so that no annulus has to
+// squeeze between them. Exact (over the subsets of holes) up to 16 holes, greedy beyond.
+std::vector<std::vector<int>> tshirt_plan(const std::vector<std::vector<double>>& gap) {
+    const int n = static_cast<int>(gap.size());
+    std::vector<std::vector<double>> weight(n, std::vector<double>(n, 0));
+    for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j)
+            if (i != j) weight[i][j] = 1 / std::max(gap[i][j] * gap[i][j], 1e-12);
+    auto separation = [&](std::uint64_t set) {  // the penalty of an annulus round `set`
+        double p = 0;
+        for (int a = 0; a < n; ++a)
+            if (set >> a & 1)
+                for (int b = 0; b < n; ++b)
+                    if (!(set >> b & 1)) p += weight[a][b];
+        return p;
+    };
+    auto members = [n](std::uint64_t set) {
+        std::vector<int> m;
+        for (int a = 0; a < n; ++a)
+            if (set >> a & 1) m.push_back(a);
+        return m;
+    };
+    std::vector<std::uint64_t> chain;  // A_1, ..., A_{g-2}
+    const int steps = n / 2 - 2;
+    if (n <= 16) {
+        const std::uint64_t all = (std::uint64_t{1} << n) - 1;
+        std::vector<double> best(all + 1, kInf);
+        std::vector<std::uint64_t> from(all + 1, 0);
+        for (std::uint64_t set = 1; set <= all; ++set) {
+            const int size = __builtin_popcountll(set);
+            if (size < 3 || size % 2 == 0 || size > n - 3) continue;
+            if (size == 3) {
+                best[set] = separation(set);
+                continue;
+            }
+            const std::vector<int> m = members(set);
+            for (size_t i = 0; i < m.size(); ++i)
+                for (size_t j = i + 1; j < m.size(); ++j) {
+                    const std::uint64_t prev = set & ~(std::uint64_t{1} << m[i]) & ~(std::uint64_t{1} << m[j]);
+                    if (best[prev] < best[set]) {
+                        best[set] = best[prev];
+                        from[set] = prev;
+                    }
+                }
+            if (best[set] < kInf) best[set] += separation(set);
+        }
+        std::uint64_t end = 0;
+        for (std::uint64_t set = 1; set <= all; ++set)
+            if (__builtin_popcountll(set) == n - 3 && (end == 0 || best[set] < best[end])) end = set;
+        for (std::uint64_t set = end; set != 0; set = from[set]) chain.insert(chain.begin(), set);
+    } else {
+        // Each step adds the triple (first) or pair of holes that adds the least penalty.
+        std::uint64_t set = 0;
+        for (int step = 0; step < steps; ++step) {
+            std::uint64_t pick = 0;
+            double least = kInf;
+            auto consider = [&](std::uint64_t add) {
+                if (set & add) return;
+                const double p = separation(set | add);
+                if (p < least) least = p, pick = set | add;
+            };
+            for (int a = 0; a < n; ++a)
+                for (int b = a + 1; b < n; ++b) {
+                    const std::uint64_t pair = (std::uint64_t{1} << a) | (std::uint64_t{1} << b);
+                    if (step > 0)
+                        consider(pair);
+                    else
+                        for (int c = b + 1; c < n; ++c) consider(pair | std::uint64_t{1} << c);
+                }
+            set = pick;
+            chain.push_back(set);
+        }
+    }
+    std::vector<std::vector<int>> groups;
+    std::uint64_t before = 0;
+    for (std::uint64_t set : chain) {
+        groups.push_back(members(set & ~before));
+        before = set;
+    }
+    const std::uint64_t all = n >= 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << n) - 1;
+    groups.push_back(members(all & ~before));
+    return groups;
+}
+
+// The triples of holes a T-shirt may take next, most compact first: each hole with the hole
+// nearest it and the hole nearest those two (the first body), or the last annulus' S-cycle with
+// one of the holes nearest it and the hole nearest those two. `gap` holds distances in the body
+// between holes; at most `count` triples.
+std::vector<std::vector<int>> tshirt_choices(const std::vector<std::vector<double>>& gap, int last_index, size_t count) {
+    const int n = static_cast<int>(gap.size());
+    std::vector<std::pair<double, std::vector<int>>> found;
+    for (int i = 0; i < n; ++i) {
+        if (last_index >= 0 && i != last_index) continue;
+        std::vector<int> order;
+        for (int j = 0; j < n; ++j)
+            if (j != i) order.push_back(j);
+        std::stable_sort(order.begin(), order.end(), [&](int x, int y) { return gap[i][x] < gap[i][y]; });
+        const size_t partners = last_index >= 0 ? std::min<size_t>(3, order.size()) : 1;
+        for (size_t p = 0; p < partners; ++p) {
+            const int j = order[p];
+            int c = -1;
+            for (int x = 0; x < n; ++x)
+                if (x != i && x != j &&
+                    (c < 0 || std::min(gap[i][x], gap[j][x]) < std::min(gap[i][c], gap[j][c])))
+                    c = x;
+            if (c < 0) continue;
+            std::vector<int> t = {i, j, c};
+            std::sort(t.begin(), t.end());
+            const double spread = gap[i][j] + std::min(gap[i][c], gap[j][c]);
+            if (std::none_of(found.begin(), found.end(), [&t](const auto& f) { return f.second == t; }))
+                found.push_back({spread, t});
+        }
+    }
+    std::stable_sort(found.begin(), found.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+    std::vector<std::vector<int>> out;
+    for (size_t i = 0; i < std::min(count, found.size()); ++i) out.push_back(found[i].second);
+    return out;
+}
+
+}  // namespace
+
+std::optional<std::vector<int>> tube_s_cycles(Builder& b, const std::vector<int>& loops, int g, const Say& say) {
+    Builder w = b;
+    const double unit = surface_area(w.s_.mesh()) / (10.0 * g - 10);  // one quad's share
+    std::vector<int> ids;
+    std::vector<std::array<int, 2>> ends(g);
+    for (int i = 0; i < g; ++i) {
+        say("handle annulus " + std::to_string(i + 1) + " of " + std::to_string(g) + surface_size(w));
+        const double len = cycle_length(w.s_.mesh(), w.curves_[loops[i]]);
+        double width = std::min(unit / len, 0.25 * len);
+        bool ok = false;
+        for (int attempt = 0; attempt < 3 && !ok; ++attempt, width *= 0.5) {
+            Builder trial = w;
+            std::vector<int> trial_ids = ids;
+            if (tube_annulus(trial, loops[i], loops, width, &trial_ids, &ends[i])) {
+                w = std::move(trial);
+                ids = std::move(trial_ids);
+                ok = true;
+            }
+        }
+        if (!ok) return std::nullopt;
+    }
+    int last = -1;  // outer S-cycle of the last body annulus
+    std::vector<std::vector<int>> plan;  // per T-shirt, the holes it takes (tshirt_plan)
+    for (int k = 0; k + 2 < g; ++k) {
+        say("body annulus " + std::to_string(k + 1) + " of " + std::to_string(g - 2) + surface_size(w));
+        const Surface& s = w.s_;
+        const Cut cut = cut_by(w, ids);
+        const int body = body_piece(cut, last, g);
+        if (body < 0) return std::nullopt;
+        const std::vector<char> block = outside_piece(s, cut.label, body);
+        std::vector<int> holes;
+        for (const Hole& h : cut.holes.at(body)) holes.push_back(h.curve);
+        const int n = static_cast<int>(holes.size());
+        std::vector<std::vector<double>> gap;  // distances in the body between holes, when first needed
+        auto hole_gaps = [&]() -> const std::vector<std::vector<double>>& {
+            if (!gap.empty()) return gap;
+            gap.assign(n, std::vector<double>(n, kInf));
+            for (int i = 0; i < n; ++i) {
+                const std::vector<double> d = distances_from(s, block, w.curves_[holes[i]]);
+                for (int j = 0; j < n; ++j)
+                    for (int v : w.curves_[holes[j]]) gap[i][j] = std::min(gap[i][j], d[v]);
+            }
+            return gap;
+        };
+        // The body left holds T-shirts k..g-2 (6 units each) and annuli k..g-3 (2 each).
+        const double units = 6.0 * (g - 1 - k) + 2.0 * (g - 2 - k);
+        auto take = [&](const std::vector<int>& group) {  // the T-shirt takes `last` and `group`
+            std::vector<int> C, D;
+            if (last >= 0) C.push_back(last);
+            for (int h : group)
+                if (h != last) C.push_back(h);
+            for (int h : holes)
+                if (std::find(C.begin(), C.end(), h) == C.end()) D.push_back(h);
+            return cut_tshirt(w, ids, last, C, D, g, units, unit);
+        };
+        if (k == 0 && n <= kMaxPlannedHoles)
+            for (const std::vector<int>& group : tshirt_plan(hole_gaps())) {
+                plan.emplace_back();
+                for (int i : group) plan.back().push_back(holes[i]);
+            }
+        std::optional<BodyCut> best;
+        if (k < static_cast<int>(plan.size())) best = take(plan[k]);
+        if (!best) {  // no plan, or it failed: from here on, holes near each other
+            plan.clear();
+            const int last_index =
+                last < 0 ? -1 : static_cast<int>(std::find(holes.begin(), holes.end(), last) - holes.begin());
+            for (const std::vector<int>& t : tshirt_choices(hole_gaps(), last_index, kTshirtChoices)) {
+                std::vector<int> group;
+                for (int i : t) group.push_back(holes[i]);
+                if ((best = take(group))) break;
+            }
+        }
+        if (!best) return std::nullopt;
+        w = std::move(best->b);
+        ids = std::move(best->ids);
+        last = best->outer;
+    }
+    try {
+        find_pieces(w, ids, g);
+    } catch (const InternalError&) {
+        return std::nullopt;
+    }
+    b = std::move(w);
+    return ids;
+}
+
+}  // namespace quadcage::layout::detail
