@@ -1,0 +1,108 @@
+// The half-edge Surface every layout stage works on: adjacency, edge splits, Dijkstra.
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "detail/surface.h"
+#include "quadcage/core/shapes.h"
+
+namespace quadcage::layout::detail {
+namespace {
+
+void expect_consistent(const Surface& s) {
+    for (int h = 0; h < s.num_half_edges(); ++h) {
+        const int t = s.twin(h);
+        ASSERT_GE(t, 0) << "half-edge " << h << " has no twin on a closed surface";
+        EXPECT_EQ(s.twin(t), h);
+        EXPECT_EQ(s.from(t), s.to(h));
+        EXPECT_EQ(s.to(t), s.from(h));
+        EXPECT_EQ(s.from(s.rotate(h)), s.from(h));
+    }
+}
+
+TEST(LayoutSurface, TwinsRingsAndHalfEdgesAgree) {
+    const Surface s(shapes::icosphere(2));
+    expect_consistent(s);
+    int degree_sum = 0;
+    for (int v = 0; v < s.num_vertices(); ++v) {
+        const std::vector<int> ring = s.ring(v);
+        degree_sum += static_cast<int>(ring.size());
+        EXPECT_TRUE(ring.size() == 5 || ring.size() == 6) << v;  // an icosphere's valences
+        for (int w : ring) {
+            const int h = s.find_half_edge(v, w);
+            ASSERT_GE(h, 0);
+            EXPECT_EQ(s.from(h), v);
+            EXPECT_EQ(s.to(h), w);
+        }
+        EXPECT_EQ(s.out_half_edges(v).size(), ring.size());
+    }
+    EXPECT_EQ(degree_sum, s.num_half_edges());  // every half-edge leaves exactly one vertex
+    EXPECT_EQ(s.find_half_edge(0, 0), -1);
+}
+
+TEST(LayoutSurface, SplitEdgesKeepsVerticesAndAddsMidpoints) {
+    const Mesh input = shapes::torus(12, 6);
+    Surface s(input);
+    const int h = s.find_half_edge(0, s.ring(0)[0]);
+    const int a = s.from(h), b = s.to(h), c = s.ring(7)[2];
+    const std::vector<int> added = s.split_edges({{a, b}, {7, c}});
+    ASSERT_EQ(added.size(), 2u);
+    EXPECT_EQ(s.num_vertices(), input.num_vertices() + 2);
+    EXPECT_EQ(s.mesh().num_triangles(), input.num_triangles() + 4);  // each split edge: 2 triangles more
+    for (int v = 0; v < input.num_vertices(); ++v) EXPECT_EQ(s.point(v), input.points[v]);
+    EXPECT_LT(norm(s.point(added[0]) - (input.points[a] + input.points[b]) * 0.5), 1e-15);
+    EXPECT_EQ(s.find_half_edge(a, b), -1);
+    EXPECT_GE(s.find_half_edge(a, added[0]), 0);
+    EXPECT_GE(s.find_half_edge(added[0], b), 0);
+    expect_consistent(s);
+}
+
+TEST(LayoutSurface, InsertMidpointsFollowsTheSplitEdges) {
+    std::vector<std::vector<int>> curves = {{0, 1, 2}, {5, 6}};
+    insert_midpoints(curves, {{1, 2, 10}, {2, 0, 11}, {6, 5, 12}}, true);
+    EXPECT_EQ(curves[0], (std::vector<int>{0, 1, 10, 2, 11}));  // closed: 2 -> 0 is walked too
+    // Open: only the edges the curve walks count.
+    std::vector<std::vector<int>> open = {{5, 6}};
+    insert_midpoints(open, {{6, 5, 12}}, false);
+    EXPECT_EQ(open[0], (std::vector<int>{5, 12, 6}));
+}
+
+TEST(LayoutSurface, DijkstraPathsHaveTheirDistanceAndAvoidBlockedVertices) {
+    const Surface s(shapes::icosphere(3));
+    PathSearch q;
+    q.sources = {{0, 0.0}};
+    const PathResult free = dijkstra(s, q);
+    // The farthest vertex from 0 on the unit sphere is about pi away along edges (a bit more).
+    int far = 0;
+    for (int v = 0; v < s.num_vertices(); ++v)
+        if (free.distance[v] > free.distance[far]) far = v;
+    EXPECT_GT(free.distance[far], 3.14);
+    EXPECT_LT(free.distance[far], 3.14 * 1.15);
+    const std::vector<int> path = free.path_to(s, far);
+    ASSERT_GE(path.size(), 2u);
+    EXPECT_EQ(path.front(), 0);
+    EXPECT_EQ(path.back(), far);
+    double length = 0;
+    for (size_t i = 1; i < path.size(); ++i) length += norm(s.point(path[i]) - s.point(path[i - 1]));
+    EXPECT_NEAR(length, free.distance[far], 1e-12);
+    // Block that path's interior: the path found then goes around it (antipodal points have many
+    // shortest paths, so it need not be longer).
+    std::vector<char> block(s.num_vertices(), 0);
+    for (size_t i = 1; i + 1 < path.size(); ++i) block[path[i]] = 1;
+    q.blocked = &block;
+    const PathResult around = dijkstra(s, q);
+    EXPECT_GE(around.distance[far], free.distance[far]);
+    for (int v : around.path_to(s, far)) EXPECT_FALSE(block[v]) << v;
+    // A wall round the sphere between the source and the target: nothing beyond it is reached.
+    std::vector<char> wall(s.num_vertices(), 0);
+    const double z0 = 0.5 * (s.point(0).z + s.point(far).z);
+    for (int v = 0; v < s.num_vertices(); ++v) wall[v] = std::abs(s.point(v).z - z0) < 0.1;
+    ASSERT_FALSE(wall[0]);
+    q.blocked = &wall;
+    EXPECT_TRUE(std::isinf(dijkstra(s, q).distance[far]));
+}
+
+}  // namespace
+}  // namespace quadcage::layout::detail
