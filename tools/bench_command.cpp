@@ -41,7 +41,8 @@ std::string default_peer_script(const std::string& executable) {
     std::error_code ec;
     const std::filesystem::path installed =
         std::filesystem::path(executable).parent_path() / QUADCAGE_PEER_SCRIPT_FROM_BIN;
-    if (!executable.empty() && std::filesystem::exists(installed, ec)) return installed.lexically_normal().string();
+    if (!executable.empty() && std::filesystem::exists(installed, ec))
+        return installed.lexically_normal().string();
     if (std::filesystem::exists(QUADCAGE_PEER_SCRIPT, ec)) return QUADCAGE_PEER_SCRIPT;
     return executable.empty() ? std::string(QUADCAGE_PEER_SCRIPT) : installed.lexically_normal().string();
 }

@@ -59,7 +59,8 @@ int run(const std::string& mesh_path, const std::string& out_dir, int level) {
     for (int f = 0; f < control.num_quads(); ++f)
         for (int i = 0; i < kSamplesPerSide; ++i)
             for (int j = 0; j < kSamplesPerSide; ++j) {
-                const quadcage::subdiv::FacePoint p{f, (i + 0.5) / kSamplesPerSide, (j + 0.5) / kSamplesPerSide};
+                const double u = (i + 0.5) / kSamplesPerSide, v = (j + 0.5) / kSamplesPerSide;
+                const quadcage::subdiv::FacePoint p{f, u, v};
                 const quadcage::subdiv::LimitPoint s = surface.evaluate(p);
                 csv << p.face << ',' << p.u << ',' << p.v << ',' << s.position.x << ',' << s.position.y << ','
                     << s.position.z << ',' << s.normal.x << ',' << s.normal.y << ',' << s.normal.z << '\n';
