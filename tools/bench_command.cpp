@@ -34,6 +34,19 @@ std::vector<int> parse_levels(const std::string& text) {
     return levels;
 }
 
+// The QuadriFlow script: PREFIX/share/quadcage/quadriflow.py beside an installed executable, else
+// the source tree's tools/bench/quadriflow.py (a build tree). If neither exists, the installed path:
+// the peer column then says "peer script not found (<path>)" and the bench goes on.
+std::string default_peer_script(const std::string& executable) {
+    std::error_code ec;
+    const std::filesystem::path installed =
+        std::filesystem::path(executable).parent_path() / QUADCAGE_PEER_SCRIPT_FROM_BIN;
+    if (!executable.empty() && std::filesystem::exists(installed, ec))
+        return installed.lexically_normal().string();
+    if (std::filesystem::exists(QUADCAGE_PEER_SCRIPT, ec)) return QUADCAGE_PEER_SCRIPT;
+    return executable.empty() ? std::string(QUADCAGE_PEER_SCRIPT) : installed.lexically_normal().string();
+}
+
 }  // namespace
 
 int run_bench(const BenchCommandOptions& o) {
@@ -46,8 +59,8 @@ int run_bench(const BenchCommandOptions& o) {
     b.peer = !o.no_peer;
     b.pictures = !o.no_pictures;
     b.blender = o.blender;
-    b.peer_script = o.peer_script.empty() ? QUADCAGE_PEER_SCRIPT : o.peer_script;
     b.executable = bench::self_executable();
+    b.peer_script = o.peer_script.empty() ? default_peer_script(b.executable) : o.peer_script;
     if (b.executable.empty()) throw InternalError("cannot find the quadcage executable (/proc/self/exe)");
     if (const std::string e = b.validate(); !e.empty()) throw InvalidInput("bench: " + e);
     b.progress = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };

@@ -24,7 +24,7 @@ struct ChildResult {
     std::string stderr_text;       ///< What this child wrote to stderr (its last 64 KiB).
     std::string error;             ///< Why it did not start (not_started).
 
-    bool ok() const { return end == End::exited && exit_code == 0; }
+    bool ok() const { return end == End::exited && exit_code == 0; }  ///< Exited with status 0.
     /// Last non-empty line of stderr_text ("" if none).
     std::string last_stderr_line() const;
 };

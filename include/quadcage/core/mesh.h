@@ -26,11 +26,15 @@ struct Vec3 {
     bool operator!=(const Vec3& o) const { return !(*this == o); }
 };
 
+/// Dot product.
 inline double dot(const Vec3& a, const Vec3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+/// Cross product (right-handed).
 inline Vec3 cross(const Vec3& a, const Vec3& b) {
     return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
+/// Euclidean length.
 inline double norm(const Vec3& a) { return std::sqrt(dot(a, a)); }
+/// True if no coordinate is NaN or infinite.
 inline bool is_finite(const Vec3& a) {
     return std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.z);
 }
@@ -41,8 +45,8 @@ using Triangle = std::array<int, 3>;
 /// An indexed triangle mesh. Nothing is assumed about it: indices may be out of range and the
 /// surface may be open or non-manifold until core::validate() says otherwise.
 struct Mesh {
-    std::vector<Vec3> points;
-    std::vector<Triangle> triangles;
+    std::vector<Vec3> points;         ///< Vertex positions, in the mesh's own units.
+    std::vector<Triangle> triangles;  ///< Indices into `points`.
 
     int num_vertices() const { return static_cast<int>(points.size()); }
     int num_triangles() const { return static_cast<int>(triangles.size()); }
@@ -67,8 +71,10 @@ double surface_area(const Mesh& mesh);
 /// Axis-aligned bounding box of the points that at least one triangle uses (all points if none).
 struct BoundingBox {
     Vec3 min, max;
-    double diagonal() const { return norm(max - min); }
+    double diagonal() const { return norm(max - min); }  ///< Length of the box diagonal (mesh units).
 };
+/// The bounding box of `mesh` (see BoundingBox); out-of-range indices are ignored, a mesh without
+/// points gives the zero box.
 BoundingBox bounding_box(const Mesh& mesh);
 
 /// One 1-to-4 midpoint split of every triangle: the same surface (points stay in place, new points at

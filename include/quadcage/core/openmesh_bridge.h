@@ -15,8 +15,11 @@ struct PolygonMeshSummary {
     int min_face_valence = 0;
     int max_face_valence = 0;
     int isolated_vertices = 0;
+    /// Has faces and no boundary edge.
     bool closed() const { return faces > 0 && boundary_edges == 0; }
+    /// Has faces, all of them quads.
     bool all_quads() const { return faces > 0 && min_face_valence == 4 && max_face_valence == 4; }
+    /// V - E + F.
     int euler_characteristic() const { return vertices - edges + faces; }
 };
 

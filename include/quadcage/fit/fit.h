@@ -30,7 +30,7 @@ enum class FitMode {
 
 /// Options for fit_surface(). Distances are relative to the bounding-box diagonal of the mesh.
 struct FitOptions {
-    FitMode mode = FitMode::Level;
+    FitMode mode = FitMode::Level;  ///< Level: fit `level`; Tolerance: fit until `tolerance` is met.
     int level = 3;             ///< Level mode: refinements of the cage (0 = the cage corners), 0..kMaxFitLevel.
     double tolerance = 1e-3;   ///< Tolerance mode: target relative symmetric RMS; both modes: threshold
                                ///< of LevelReport::within_tolerance. > 0.
@@ -103,9 +103,9 @@ struct StageSeconds {
 
 /// What happened at one level.
 struct LevelReport {
-    int level = 0;
+    int level = 0;                ///< Refinements of the cage (0 = its corners were fitted).
     int control_points = 0;       ///< Free control points (8g-8 cage corners at level 0).
-    FitError absolute;
+    FitError absolute;            ///< In the units of the input mesh.
     FitError relative;            ///< absolute / diagonal.
     double diagonal = 0;          ///< Bounding-box diagonal of the mesh.
     double within_tolerance = 0;  ///< Share of input samples within FitOptions::tolerance (relative).
@@ -118,7 +118,10 @@ struct LevelReport {
 };
 
 /// A fitted Catmull-Clark surface: the control mesh (level >= 1 as OpenSubdiv sees it) and its
-/// limit. Cheap to copy (the evaluator is shared and immutable). Evaluation is thread-safe.
+/// limit. Cheap to copy (the evaluator is shared and immutable: copies share it through a
+/// std::shared_ptr<const LimitSurface>, and it lives as long as the last copy). Every member
+/// function is const and may be called from several threads at once. Coordinates are in the units
+/// of the input mesh.
 ///
 /// The level-0 cage is either the layout's 10g-10-quad cage (fit_surface()) or a user's control
 /// mesh of any polygons (fit_control_mesh()); its first Catmull-Clark step has only quads, and
@@ -140,9 +143,9 @@ public:
     /// \throw InvalidInput if surface is null or the counts disagree.
     FittedSurface(std::shared_ptr<const subdiv::LimitSurface> surface, int level, int cage_faces, int level1_quads);
 
-    bool empty() const { return !surface_; }
-    int level() const { return level_; }
-    /// Faces of the level-0 cage.
+    bool empty() const { return !surface_; }  ///< Default-constructed: no surface to evaluate.
+    int level() const { return level_; }      ///< The fitted level (0 = the cage corners or vertices).
+    /// Faces of the level-0 cage (10g-10, 4 or 6 for a layout's cage).
     int cage_faces() const { return cage_faces_; }
     /// Quads of the level-0 cage: cage_faces() when every face is a quad, else 0.
     int cage_quads() const { return level1_quads_ == 4 * cage_faces_ ? cage_faces_ : 0; }
@@ -273,7 +276,9 @@ struct CageFit {
     FitResult fit;              ///< The fitted surface (evaluate it with fit.surface) and its report.
 };
 
-/// Mesh in, layout + fitted cage + report out: build_quad_layout() then fit_surface().
+/// Mesh in, layout + fitted cage + report out: build_quad_layout() then fit_surface(). With default
+/// options but for fit_options.level, this is what `quadcage fit MESH --level K` computes for each
+/// component. Deterministic as both stages are. Coordinates and absolute errors are in the mesh's units.
 /// \pre mesh is one closed, connected, orientable manifold component, oriented outward
 ///      (core::prepare_for_quadding() splits and orients a general mesh).
 /// \throw InvalidInput if the mesh or the options are invalid.

@@ -24,8 +24,8 @@ public:
     /// \throw InvalidInput if width or height is not in [1, 32768].
     Image(int width, int height, Rgb background = {255, 255, 255});
 
-    int width() const { return width_; }
-    int height() const { return height_; }
+    int width() const { return width_; }    ///< Pixels per row.
+    int height() const { return height_; }  ///< Rows.
     /// Pixel (x, y); \pre 0 <= x < width, 0 <= y < height.
     Rgb at(int x, int y) const { return pixels_[static_cast<size_t>(y) * width_ + x]; }
     /// Sets pixel (x, y); coordinates outside the image are ignored.
@@ -45,7 +45,7 @@ public:
     /// Number of pixels of exactly colour `c`.
     long long count(Rgb c) const;
 
-    const std::vector<Rgb>& pixels() const { return pixels_; }
+    const std::vector<Rgb>& pixels() const { return pixels_; }  ///< Row-major, width * height.
 
 private:
     int width_, height_;

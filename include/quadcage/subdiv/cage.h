@@ -30,8 +30,8 @@ struct Cage {
         std::array<int, 4> edges{};    ///< edges[k] joins corners[k] and corners[k+1 mod 4].
     };
     std::vector<Vec3> points;  ///< One position per corner.
-    std::vector<Edge> edges;
-    std::vector<Quad> quads;
+    std::vector<Edge> edges;   ///< Explicit edges (a multi-edge is two entries with the same corners).
+    std::vector<Quad> quads;   ///< One per layout patch, in patch order.
 
     int num_corners() const { return static_cast<int>(points.size()); }
     int num_edges() const { return static_cast<int>(edges.size()); }
@@ -84,9 +84,9 @@ CageRefinement refine_polygon_cage(const PolygonMesh& cage);
 /// A point on a face of a quad control mesh: face index and its (u, v) in [0,1]^2, corner k of the
 /// face at (0,0), (1,0), (1,1), (0,1) for k = 0..3 (OpenSubdiv's quad parameterisation).
 struct FacePoint {
-    int face = -1;
-    double u = 0;
-    double v = 0;
+    int face = -1;  ///< Face index (-1: none).
+    double u = 0;   ///< In [0, 1].
+    double v = 0;   ///< In [0, 1].
 };
 
 /// The same surface point on the next refinement level (refine_cage() or refine_uniform() with one

@@ -73,8 +73,8 @@ public:
 
     /// The control mesh (with the current points).
     const QuadMesh& control_mesh() const;
-    int num_faces() const;
-    int num_control_points() const;
+    int num_faces() const;           ///< Quads of the control mesh.
+    int num_control_points() const;  ///< Points of the control mesh.
 
     /// Replaces the control-point positions (same topology).
     /// \throw InvalidInput if the count differs or a point is not finite.
