@@ -144,7 +144,7 @@ int main(int argc, char** argv) {
     bench_cmd->add_flag("--no-peer", bench.no_peer, "Do not run QuadriFlow");
     bench_cmd->add_flag("--no-pictures", bench.no_pictures, "Do not draw the layout and deviation pictures");
     bench_cmd->add_option("--blender", bench.blender, "Blender executable (default: blender on PATH)");
-    bench_cmd->add_option("--peer-script", bench.peer_script, "QuadriFlow script (default: the repository's tools/bench/quadriflow.py)");
+    bench_cmd->add_option("--peer-script", bench.peer_script, "QuadriFlow script (default: PREFIX/share/quadcage/quadriflow.py beside an installed quadcage, else the\nrepository's tools/bench/quadriflow.py)");
 
     try {
         app.parse(argc, argv);
