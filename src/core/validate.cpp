@@ -415,7 +415,7 @@ ValidationReport validate(const Mesh& mesh) {
             c.degenerate = true;
             if (degenerate++ == 0)
                 example = "component " + std::to_string(ci) + (flat_area ? " has zero area (all its vertices coincide or lie on a line)"
-                                                                        : " encloses no volume (all its vertices lie in a plane)");
+                                                                        : " encloses no volume (its vertices lie in a plane, or nearly)");
         }
         if (degenerate > 0)
             add(E, "degenerate", degenerate,
