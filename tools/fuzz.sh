@@ -1,36 +1,27 @@
 #!/usr/bin/env bash
 # tools/fuzz.sh [SECONDS]   fuzz every loader entry point for SECONDS in all (default 60), split evenly.
 #
-# Builds the libFuzzer targets of tests/fuzz (clang, ASan + UBSan) into build-fuzz/ if needed, makes the
+# Builds the libFuzzer targets of tests/fuzz (clang, ASan + UBSan) into build-sanitize/ if needed
+# (tools/configure_sanitized.sh; tools/sanitize.sh shares it), makes the
 # seed corpus (tools/fuzz_corpus.py) and runs each target with a per-input timeout, a memory cap and a
 # maximum input size, so that slow or memory-hungry inputs count as findings too. The corpus grows in
-# build-fuzz/fuzz/corpus/<target> from run to run; findings go to build-fuzz/fuzz/findings/<target>/
-# (reproduce one with `build-fuzz/fuzz_<target> FILE`). Prints a summary; exits 1 on any finding.
-# Environment: QUADCAGE_FUZZ_BUILD (build directory), QUADCAGE_FUZZ_TIMEOUT (seconds per input, 5),
+# build-sanitize/fuzz/corpus/<target> from run to run; findings go to build-sanitize/fuzz/findings/<target>/
+# (reproduce one with `build-sanitize/fuzz_<target> FILE`). Prints a summary; exits 1 on any finding.
+# Environment: QUADCAGE_SANITIZE_BUILD (build directory), QUADCAGE_FUZZ_TIMEOUT (seconds per input, 5),
 # QUADCAGE_FUZZ_RSS_MB (memory cap, 2048), QUADCAGE_FUZZ_MAX_LEN (bytes, 65536).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 total=${1:-60}
 case "$total" in '' | *[!0-9]*) echo "usage: tools/fuzz.sh [SECONDS]" >&2; exit 2 ;; esac
-build=${QUADCAGE_FUZZ_BUILD:-build-fuzz}
+build=${QUADCAGE_SANITIZE_BUILD:-build-sanitize}
 timeout=${QUADCAGE_FUZZ_TIMEOUT:-5}
 rss_mb=${QUADCAGE_FUZZ_RSS_MB:-2048}
 max_len=${QUADCAGE_FUZZ_MAX_LEN:-65536}
 targets=(obj ply off stl extras cage)
 jobs=$(nproc 2>/dev/null || echo 2)
 
-if ! command -v clang++ >/dev/null; then
-  echo "fuzz: clang++ not found; install clang and libclang-rt-14-dev (tools/install_deps.sh)" >&2
-  exit 2
-fi
-
-flags="-fsanitize=address,undefined,fuzzer-no-link -fno-sanitize-recover=undefined -fno-omit-frame-pointer"
-if [ ! -f "$build/CMakeCache.txt" ]; then
-  mkdir -p "$build"
-  CC=clang CXX=clang++ cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DQUADCAGE_BUILD_FUZZERS=ON \
-    -DCMAKE_CXX_FLAGS="$flags" >"$build/configure.log" 2>&1 || { cat "$build/configure.log" >&2; exit 1; }
-fi
+bash tools/configure_sanitized.sh "$build"
 cmake --build "$build" -j"$jobs" --target "${targets[@]/#/fuzz_}" >/dev/null
 
 work="$build/fuzz"
