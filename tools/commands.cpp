@@ -14,6 +14,7 @@
 #include "quadcage/core/errors.h"
 #include "quadcage/core/io.h"
 #include "quadcage/core/openmesh_bridge.h"
+#include "quadcage/core/output_dir.h"
 #include "quadcage/core/shapes.h"
 #include "quadcage/core/validate.h"
 #include "quadcage/fit/backend.h"
@@ -73,7 +74,9 @@ json info_json(const std::string& path, const LoadInfo& load, const ValidationRe
                 {"non_manifold_edges", c.non_manifold_edges},
                 {"non_manifold_vertices", c.non_manifold_vertices},
                 {"euler_characteristic", c.euler_characteristic},
-                {"area", c.area}};
+                {"area", c.area},
+                {"volume", c.volume},
+                {"degenerate", c.degenerate}};
         jc["genus"] = c.genus >= 0 ? json(c.genus) : json(nullptr);
         jc["minimal_quads"] = c.minimal_quads >= 0 ? json(c.minimal_quads) : json(nullptr);
         if (c.minimal_quads >= 0) total_quads += c.minimal_quads;
@@ -130,15 +133,24 @@ private:
     std::chrono::steady_clock::time_point start_;
 };
 
+// `name` inside the relative folder `dir` of an output directory ("" is the directory itself).
 std::string output_path(const std::string& dir, const std::string& name) {
     return (std::filesystem::path(dir) / name).string();
 }
 
-void make_output_dir(const std::string& dir) {
-    std::error_code ec;
-    std::filesystem::create_directories(dir, ec);
-    if (ec || !std::filesystem::is_directory(dir))
-        throw InvalidInput(dir + ": cannot create the output directory (" + ec.message() + ")");
+// The output files of a command: `per_component` in each component's folder, plus report.json at the
+// top when there are several components.
+std::vector<std::string> output_names(size_t components, const std::vector<std::string>& per_component);
+
+// A report as text. A non-finite number would be written as null and hide a bug: refuse it.
+std::string report_text(const json& j, int indent, const std::string& where = "") {
+    if (j.is_number_float() && !std::isfinite(j.get<double>()))
+        throw InternalError("a report would hold a non-finite number at " + (where.empty() ? "/" : where));
+    if (j.is_object())
+        for (const auto& [k, v] : j.items()) report_text(v, indent, where + "/" + k);
+    if (j.is_array())
+        for (size_t i = 0; i < j.size(); ++i) report_text(j[i], indent, where + "/" + std::to_string(i));
+    return where.empty() ? j.dump(indent) + "\n" : std::string();
 }
 
 json cycles_json(const std::vector<layout::Cycle>& cycles) {
@@ -240,36 +252,48 @@ LayoutFiles layout_files(const layout::QuadLayout& L, const std::string& dir) {
     return f;
 }
 
-// Output directory and message prefix of component c of nc: DIR and nothing for a single component.
-std::string component_dir(const std::string& out, size_t c, size_t nc) {
-    return nc == 1 ? out : output_path(out, "component_" + std::to_string(c));
-}
+// Output folder (relative to DIR) and message prefix of component c of nc: DIR itself and nothing
+// for a single component.
+std::string component_dir(size_t c, size_t nc) { return nc == 1 ? "" : "component_" + std::to_string(c); }
 std::string component_tag(size_t c, size_t nc) { return nc == 1 ? "" : "component " + std::to_string(c) + ": "; }
 
-void write_layout_files(const LayoutFiles& f) {
-    make_output_dir(f.dir);
-    write_ply(output_path(f.dir, "layout.ply"), f.mesh, f.extras);
-    write_text_file(output_path(f.dir, "cage.obj"), f.cage_obj);
-    write_text_file(output_path(f.dir, "cage_level1.obj"), f.cage_level1_obj);
-    write_text_file(output_path(f.dir, "cage.json"), f.cage.dump() + "\n");
-    write_text_file(output_path(f.dir, "cycles.json"), f.cycles.dump() + "\n");
-    write_text_file(output_path(f.dir, "report.json"), f.report.dump(2) + "\n");
+std::vector<std::string> output_names(size_t components, const std::vector<std::string>& per_component) {
+    std::vector<std::string> names;
+    for (size_t c = 0; c < components; ++c)
+        for (const std::string& n : per_component) names.push_back(output_path(component_dir(c, components), n));
+    if (components > 1) names.push_back("report.json");
+    return names;
+}
+
+const std::vector<std::string> kLayoutFiles = {"layout.ply", "cage.obj", "cage_level1.obj", "cage.json", "cycles.json", "report.json"};
+
+// Stages the files; OutputDir::commit() moves them into DIR.
+void write_layout_files(OutputDir& out, const LayoutFiles& f) {
+    write_ply(out.path(output_path(f.dir, "layout.ply")), f.mesh, f.extras);
+    write_text_file(out.path(output_path(f.dir, "cage.obj")), f.cage_obj);
+    write_text_file(out.path(output_path(f.dir, "cage_level1.obj")), f.cage_level1_obj);
+    write_text_file(out.path(output_path(f.dir, "cage.json")), report_text(f.cage, -1));
+    write_text_file(out.path(output_path(f.dir, "cycles.json")), report_text(f.cycles, -1));
+    write_text_file(out.path(output_path(f.dir, "report.json")), report_text(f.report, 2));
 }
 
 }  // namespace
 
 int run_layout(const LayoutOptions& o) {
     Progress progress(o.quiet);
+    OutputDir out(o.output_dir);  // usable, checked before any work
     progress.say("loading " + o.mesh);
     const Mesh input = read_mesh(o.mesh);
     const PreparedMesh prepared = prepare_for_quadding(input, o.mesh);
     const size_t nc = prepared.components.size();
+    out.expect(output_names(nc, kLayoutFiles), {o.mesh});
     std::vector<LayoutFiles> pending;
+    std::string summary;  // printed once the files are in place
     json top = {{"command", "layout"}, {"input", o.mesh}, {"components", nc}, {"quads", 0}, {"corners", 0}, {"edges", 0}};
     json parts = json::array();
     std::map<std::string, int> histogram;
     for (size_t c = 0; c < nc; ++c) {
-        const std::string dir = component_dir(o.output_dir, c, nc);
+        const std::string dir = component_dir(c, nc);
         const std::string tag = component_tag(c, nc);
         layout::QuadLayoutOptions options;
         options.progress = progress.callback(tag);
@@ -285,23 +309,28 @@ int run_layout(const LayoutOptions& o) {
         top["edges"] = top["edges"].get<int>() + L.cage.num_edges();
         parts.push_back(f.report);
         const auto& q = L.quality;
-        std::printf("%sgenus %d: %d quads, %d corners (all of degree %d), verified; patch area max/min %.3g, "
-                    "corner angle deviation %.1f deg, distortion mean %.2f max %.3g; %.2f s\n",
-                    tag.c_str(), L.genus, L.cage.num_quads(), L.cage.num_corners(),
-                    L.genus >= 2 ? 5 : (L.genus == 1 ? 4 : 3), q.patch_area_max_over_min,
-                    q.corner_angle_mean_deviation_deg, q.distortion_mean, q.distortion_max,
-                    f.report["seconds"]["total"].get<double>());
+        char line[512];
+        std::snprintf(line, sizeof line,
+                      "%sgenus %d: %d quads, %d corners (all of degree %d), verified; patch area max/min %.3g, "
+                      "corner angle deviation %.1f deg, distortion mean %.2f max %.3g; %.2f s\n",
+                      tag.c_str(), L.genus, L.cage.num_quads(), L.cage.num_corners(),
+                      L.genus >= 2 ? 5 : (L.genus == 1 ? 4 : 3), q.patch_area_max_over_min,
+                      q.corner_angle_mean_deviation_deg, q.distortion_mean, q.distortion_max,
+                      f.report["seconds"]["total"].get<double>());
+        summary += line;
         pending.push_back(std::move(f));
     }
-    for (const LayoutFiles& f : pending) write_layout_files(f);
+    for (const LayoutFiles& f : pending) write_layout_files(out, f);
     if (nc > 1) {
         top["degree_histogram"] = histogram;
         top["component_reports"] = parts;
         top["verified"] = true;
         top["seconds"] = {{"total", progress.seconds()}};
         top["peak_memory_mib"] = peak_memory_mib();
-        write_text_file(output_path(o.output_dir, "report.json"), top.dump(2) + "\n");
+        write_text_file(out.path("report.json"), report_text(top, 2));
     }
+    out.commit();
+    std::fputs(summary.c_str(), stdout);
     progress.say("wrote " + o.output_dir);
     return kOk;
 }
@@ -338,6 +367,7 @@ void print_fit_summary(const std::string& tag, const fit::FitResult& fit, const 
 int run_fit_cage(const FitCommandOptions& o) {
     Progress progress(o.quiet);
     const fit::FitOptions fit_options = fit_options_of(o);
+    OutputDir out(o.output_dir);  // usable, checked before any work
     progress.say("loading " + o.mesh);
     const Mesh input = read_mesh(o.mesh);
     const PreparedMesh prepared = prepare_for_quadding(input, o.mesh);
@@ -352,6 +382,7 @@ int run_fit_cage(const FitCommandOptions& o) {
     } catch (const InvalidInput& e) {
         throw InvalidInput(o.cage + ": " + e.what() + " (" + o.mesh + ")");
     }
+    out.expect(output_names(nc, {"fitted_cage.obj", "limit.ply", "deviation.ply", "report.json"}), {o.mesh, o.cage});
     struct Pending {
         fit::FitResult fit;
         double seconds = 0;
@@ -374,9 +405,9 @@ int run_fit_cage(const FitCommandOptions& o) {
     json parts = json::array();
     for (size_t c = 0; c < nc; ++c) {
         const Pending& p = pending[c];
-        const std::string dir = component_dir(o.output_dir, c, nc), tag = component_tag(c, nc);
+        const std::string dir = component_dir(c, nc), tag = component_tag(c, nc);
         progress.say(tag + "writing the fitted surface");
-        const fit::FitOutputs written = fit::write_fit_outputs(dir, prepared.components[c], p.fit, fit_options);
+        const fit::FitOutputs written = fit::write_fit_outputs(out.folder(dir), prepared.components[c], p.fit, fit_options);
         json report = json::parse(fit::fit_report_json(p.fit, fit_options, &written.tessellation));
         report["command"] = "fit";
         report["input"] = o.mesh;
@@ -386,7 +417,7 @@ int run_fit_cage(const FitCommandOptions& o) {
         report["control_mesh"] = {{"faces", pieces[c].num_faces()}, {"vertices", pieces[c].num_vertices()}};
         report["seconds"] = {{"fit", p.seconds}, {"total", p.seconds}};
         report["peak_memory_mib"] = peak_memory_mib();
-        write_text_file(output_path(dir, "report.json"), report.dump(2) + "\n");
+        write_text_file(out.path(output_path(dir, "report.json")), report_text(report, 2));
         parts.push_back(report);
         if (o.json) continue;
         std::printf("%scontrol mesh of %d faces, %d vertices, fit %.2f s\n", tag.c_str(), pieces[c].num_faces(),
@@ -396,8 +427,9 @@ int run_fit_cage(const FitCommandOptions& o) {
     if (nc > 1) {
         top["component_reports"] = parts;
         top["peak_memory_mib"] = peak_memory_mib();
-        write_text_file(output_path(o.output_dir, "report.json"), top.dump(2) + "\n");
+        write_text_file(out.path("report.json"), report_text(top, 2));
     }
+    out.commit();
     if (o.json) std::cout << (nc == 1 ? parts[0] : top).dump(2) << "\n";
     progress.say("wrote " + o.output_dir);
     return kOk;
@@ -408,11 +440,17 @@ int run_fit_cage(const FitCommandOptions& o) {
 int run_fit(const FitCommandOptions& o) {
     if (!o.cage.empty()) return run_fit_cage(o);
     Progress progress(o.quiet);
+    const fit::FitOptions fit_options = fit_options_of(o);
+    OutputDir out(o.output_dir);  // usable, checked before any work
     progress.say("loading " + o.mesh);
     const Mesh input = read_mesh(o.mesh);
     const PreparedMesh prepared = prepare_for_quadding(input, o.mesh);
     const size_t nc = prepared.components.size();
-    const fit::FitOptions fit_options = fit_options_of(o);
+    {
+        std::vector<std::string> files = kLayoutFiles;
+        for (const char* f : {"fitted_cage.obj", "limit.ply", "deviation.ply"}) files.push_back(f);
+        out.expect(output_names(nc, files), {o.mesh});
+    }
     struct Pending {
         LayoutFiles layout;
         fit::FitResult fit;
@@ -421,7 +459,7 @@ int run_fit(const FitCommandOptions& o) {
     };
     std::vector<Pending> pending;
     for (size_t c = 0; c < nc; ++c) {
-        const std::string dir = component_dir(o.output_dir, c, nc);
+        const std::string dir = component_dir(c, nc);
         const std::string tag = component_tag(c, nc);
         layout::QuadLayoutOptions layout_options;
         layout_options.progress = progress.callback(tag + "layout: ");
@@ -442,10 +480,10 @@ int run_fit(const FitCommandOptions& o) {
     json parts = json::array();
     for (size_t c = 0; c < pending.size(); ++c) {
         Pending& p = pending[c];
-        write_layout_files(p.layout);
+        write_layout_files(out, p.layout);
         const std::string tag = component_tag(c, nc);
         progress.say(tag + "writing the fitted surface");
-        const fit::FitOutputs written = fit::write_fit_outputs(p.layout.dir, *p.mesh, p.fit, fit_options);
+        const fit::FitOutputs written = fit::write_fit_outputs(out.folder(p.layout.dir), *p.mesh, p.fit, fit_options);
         // report.json: the fit's report, with the layout's beside it.
         json report = json::parse(fit::fit_report_json(p.fit, fit_options, &written.tessellation));
         report["command"] = "fit";
@@ -457,7 +495,7 @@ int run_fit(const FitCommandOptions& o) {
         report["layout"] = p.layout.report;
         report["seconds"] = {{"layout", p.layout_seconds}, {"fit", p.fit_seconds}, {"total", p.layout_seconds + p.fit_seconds}};
         report["peak_memory_mib"] = peak_memory_mib();
-        write_text_file(output_path(p.layout.dir, "report.json"), report.dump(2) + "\n");
+        write_text_file(out.path(output_path(p.layout.dir, "report.json")), report_text(report, 2));
         parts.push_back(report);
         if (o.json) continue;
         std::printf("%sgenus %d: %d-quad cage, layout %.2f s, fit %.2f s\n", tag.c_str(), p.layout.report["genus"].get<int>(),
@@ -467,8 +505,9 @@ int run_fit(const FitCommandOptions& o) {
     if (nc > 1) {
         top["component_reports"] = parts;
         top["peak_memory_mib"] = peak_memory_mib();
-        write_text_file(output_path(o.output_dir, "report.json"), top.dump(2) + "\n");
+        write_text_file(out.path("report.json"), report_text(top, 2));
     }
+    out.commit();
     if (o.json) std::cout << (nc == 1 ? parts[0] : top).dump(2) << "\n";
     progress.say("wrote " + o.output_dir);
     return kOk;  // a tolerance not met is reported in the summary and report.json, not an error
@@ -477,10 +516,12 @@ int run_fit(const FitCommandOptions& o) {
 int run_cycles(const CyclesOptions& o) {
     Progress progress(o.quiet);
     progress.say("loading " + o.mesh);
+    OutputDir out(o.output_dir);  // usable, checked before any work
     LoadInfo load;
     const Mesh input = read_mesh(o.mesh, &load);
     const PreparedMesh prepared = prepare_for_quadding(input, o.mesh);
     const size_t nc = prepared.components.size();
+    out.expect(output_names(nc, {"layout.ply", "cycles.json", "report.json"}), {o.mesh});
     // Everything is computed before anything is written: a failure leaves no partial output.
     struct Pending {
         std::string dir;
@@ -492,7 +533,7 @@ int run_cycles(const CyclesOptions& o) {
     top["input"] = o.mesh;
     top["components"] = json::array();
     for (size_t c = 0; c < nc; ++c) {
-        const std::string dir = component_dir(o.output_dir, c, nc);
+        const std::string dir = component_dir(c, nc);
         const std::string tag = component_tag(c, nc);
         const Mesh& mesh = prepared.components[c];
         const double t0 = progress.seconds();
@@ -552,12 +593,12 @@ int run_cycles(const CyclesOptions& o) {
                         tag.c_str(), tiny, tiny == 1 ? " is" : "s are", kTinyHandle);
     }
     for (const Pending& p : pending) {
-        make_output_dir(p.dir);
-        write_ply(output_path(p.dir, "layout.ply"), p.mesh);
-        write_text_file(output_path(p.dir, "cycles.json"), p.cycles.dump() + "\n");
-        write_text_file(output_path(p.dir, "report.json"), p.report.dump(2) + "\n");
+        write_ply(out.path(output_path(p.dir, "layout.ply")), p.mesh);
+        write_text_file(out.path(output_path(p.dir, "cycles.json")), report_text(p.cycles, -1));
+        write_text_file(out.path(output_path(p.dir, "report.json")), report_text(p.report, 2));
     }
-    if (nc > 1) write_text_file(output_path(o.output_dir, "report.json"), top.dump(2) + "\n");
+    if (nc > 1) write_text_file(out.path("report.json"), report_text(top, 2));
+    out.commit();
     progress.say("wrote " + o.output_dir);
     return kOk;
 }
@@ -592,7 +633,15 @@ void write_mesh_by_extension(const std::string& out, const Mesh& mesh) {
     else write_obj(out, mesh);
 }
 
+// A single output file must not be (the same file as) the input.
+void refuse_to_replace(const std::string& input, const std::string& output) {
+    std::error_code ec;
+    if (std::filesystem::exists(output, ec) && std::filesystem::equivalent(input, output, ec))
+        throw OutputConflict(output + ": this output would replace the input " + input + "; choose another output file (-o)");
+}
+
 int run_subdivide(const SubdivideOptions& o) {
+    refuse_to_replace(o.mesh, o.output);
     Mesh mesh = read_mesh(o.mesh);
     require_quaddable(mesh, o.mesh);
     for (int i = 0; i < o.times; ++i) mesh = subdivide_midpoint(mesh);

@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # The two quick-start commands of the README:
 #   tools/dev.sh demo   install what is missing, build, fit a cage to the bundled mesh data/eight.off (-> out/eight)
-#   tools/dev.sh test   install what is missing, build, run every test (ctest)
+#   tools/dev.sh test   install what is missing, build, run every test (ctest), then the ASan + UBSan
+#                       build of the core and subdiv tests (tools/sanitize.sh) and a fuzz smoke
+#                       run of every loader (tools/fuzz.sh, 60 s in all)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -23,3 +25,10 @@ if [ ! -d ../shared/data/meshes ]; then
   echo "note: ../shared/data/meshes not found beside the checkout: tests on real meshes are skipped" >&2
 fi
 ctest --test-dir build --output-on-failure -j"$jobs" --timeout 900
+
+t0=$(date +%s)
+bash tools/sanitize.sh
+t1=$(date +%s)
+bash tools/fuzz.sh "${QUADCAGE_FUZZ_SECONDS:-60}"
+t2=$(date +%s)
+echo "dev.sh: sanitizer build and tests $((t1 - t0)) s, fuzz smoke $((t2 - t1)) s"

@@ -8,6 +8,7 @@ packages=(
   libosd-dev libopenmesh-dev libceres-dev libembree-dev libeigen3-dev libgtest-dev
   libcli11-dev nlohmann-json3-dev libpng-dev
   python3 python3-numpy python3-scipy
+  clang libclang-rt-14-dev
 )
 
 missing=()

@@ -162,6 +162,9 @@ int main(int argc, char** argv) {
         if (*sub_cmd) return run_subdivide(sub);
         if (*render_cmd) return run_render(render);
         if (*bench_cmd) return run_bench(bench);
+    } catch (const quadcage::OutputConflict& e) {  // an output would replace an input: bad usage
+        std::fprintf(stderr, "quadcage: error: %s\n", e.what());
+        return kUsage;
     } catch (const quadcage::InvalidInput& e) {
         std::fprintf(stderr, "quadcage: error: %s\n", e.what());
         return kInvalidInput;

@@ -43,6 +43,10 @@ int run_render(const RenderCommandOptions& o) {
         throw InvalidInput(o.input + ": no such file or directory");
     }
 
+    if (fs::exists(o.output, ec) && fs::equivalent(mesh_path, o.output, ec))
+        throw OutputConflict(o.output + ": this output would replace the input " + mesh_path +
+                             "; choose another output file (-o)");
+
     render::FigureOptions fig;
     parse_size(o.size, fig.width, fig.height);
     if (const std::string e = fig.validate(); !e.empty()) throw InvalidInput("--size " + o.size + ": " + e);
@@ -52,7 +56,8 @@ int run_render(const RenderCommandOptions& o) {
     PlyExtras extras;
     extras.face_int_name = "patch";
     extras.vertex_float_name = "distance";
-    const bool is_ply = [&] {
+    // Not regular (a FIFO would block this peek): read_mesh() refuses it with a clear message.
+    const bool is_ply = fs::is_regular_file(mesh_path, ec) && [&] {
         std::FILE* f = std::fopen(mesh_path.c_str(), "rb");
         char magic[4] = {0, 0, 0, 0};
         const bool ok = f && std::fread(magic, 1, 3, f) == 3 && std::string(magic, 3) == "ply";

@@ -5,11 +5,13 @@
 #include <cerrno>
 #include <charconv>
 #include <climits>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <initializer_list>
+#include <limits>
 #include <memory>
 #include <string_view>
 #include <system_error>
@@ -44,15 +46,44 @@ std::string quote(std::string_view token) {
     return out + "'";
 }
 
+// A number for a message (%g).
+std::string short_number(double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%g", v);
+    return buf;
+}
+
 struct FileCloser {
     void operator()(std::FILE* f) const { std::fclose(f); }
 };
 using FilePtr = std::unique_ptr<std::FILE, FileCloser>;
 
 // The parsers work on the whole file in memory: it is simpler and much faster than streams.
-std::string read_whole_file(const std::string& path) {
+// Only regular files are read: a directory cannot be parsed, a device such as /dev/zero never ends
+// and a FIFO may block forever. Checked on the path (following symbolic links) before opening it.
+void require_regular_file(const std::string& path) {
     std::error_code ec;
-    if (std::filesystem::is_directory(path, ec)) fail(path, "is a directory, not a mesh file");
+    const std::filesystem::file_status st = std::filesystem::status(path, ec);
+    if (ec || !std::filesystem::exists(st)) {
+        if (ec && ec != std::errc::no_such_file_or_directory)
+            fail(path, "cannot open file (" + ec.message() + ")");
+        fail(path, "cannot open file (No such file or directory)");
+    }
+    using std::filesystem::file_type;
+    switch (st.type()) {
+        case file_type::regular: return;
+        case file_type::directory: fail(path, "is a directory, not a mesh file");
+        case file_type::fifo: fail(path, "is a FIFO (named pipe), not a regular file; save the mesh to a file first");
+        case file_type::socket: fail(path, "is a socket, not a regular file; save the mesh to a file first");
+        case file_type::character:
+        case file_type::block: fail(path, "is a device, not a regular file; give a mesh file");
+        default: fail(path, "is not a regular file; give a mesh file");
+    }
+}
+
+std::string read_whole_file(const std::string& path) {
+    require_regular_file(path);
+    std::error_code ec;
     FilePtr file(std::fopen(path.c_str(), "rb"));
     if (!file) fail(path, std::string("cannot open file (") + std::strerror(errno) + ")");
     std::string data;
@@ -190,9 +221,24 @@ private:
 // ------------------------------------------------------------------------------------------------
 // OBJ
 
+// An OBJ face corner that names a vertex not (yet) defined: positive indices may refer forward,
+// so whether it exists is known only at the end of the file.
+struct ObjForwardIndex {
+    long long index;  // 1-based, as written
+    int line;
+};
+
+[[noreturn]] void fail_obj_index(const std::string& path, int line, long long written, long long defined, bool at_end) {
+    fail_at(path, line, "face corner " + std::to_string(written) + " refers to a vertex that does not exist (the file " +
+                            (at_end ? "defines " : "has defined ") + std::to_string(defined) + " vertices" +
+                            (at_end ? "" : " so far") +
+                            "; OBJ indices count from 1, negative ones back from the last vertex defined)");
+}
+
 void read_obj(const std::string& path, std::string_view text, Mesh& mesh, ReadInfo& info) {
     TextCursor c(text.data(), text.data() + text.size());
     std::vector<int> corners;
+    std::vector<ObjForwardIndex> forward;  // corners beyond the vertices defined so far
     while (!c.at_end()) {
         const std::string_view key = c.token_in_line();
         if (key == "v") {
@@ -222,6 +268,10 @@ void read_obj(const std::string& path, std::string_view text, Mesh& mesh, ReadIn
                 }
                 if (!ok) fail_at(path, c.line(), "malformed face corner " + quote(tok) + " (expected v, v/vt, v//vn or v/vt/vn)");
                 // Positive indices are 1-based; negative ones count back from the last vertex so far.
+                // Errors are reported in the file's own numbering (as written), not 0-based.
+                if (v == 0) fail_at(path, c.line(), "face corner 0 is not a vertex index (OBJ indices count from 1, negative ones back from the last vertex defined)");
+                if (v < 0 && defined + v < 0) fail_obj_index(path, c.line(), v, defined, false);
+                if (v > defined) forward.push_back({v, c.line()});
                 corners.push_back(to_index(v < 0 ? defined + v : v - 1));
             }
             add_polygon(corners, mesh, info);
@@ -229,6 +279,9 @@ void read_obj(const std::string& path, std::string_view text, Mesh& mesh, ReadIn
         // Everything else (vt, vn, vp, g, o, s, usemtl, mtllib, l, comments, ...) is not geometry we use.
         c.skip_line();
     }
+    const long long total = static_cast<long long>(mesh.points.size());
+    for (const ObjForwardIndex& f : forward)
+        if (f.index > total) fail_obj_index(path, f.line, f.index, total, true);
 }
 
 // ------------------------------------------------------------------------------------------------
@@ -601,13 +654,16 @@ public:
     }
 
     bool skip(PlyType t, long long count = 1) {
-        const long long n = size_of(t) * count;
-        if (end_ - p_ < n) return false;
-        p_ += n;
+        // count comes from the file: compare without multiplying (no overflow).
+        if (count < 0 || count > (end_ - p_) / size_of(t)) return false;
+        p_ += size_of(t) * count;
         return true;
     }
 
     long long bytes_left() const { return end_ - p_; }
+
+    /// Most items of `min_bytes` bytes each (>= 1) that the rest of the file can hold.
+    long long max_items(long long min_bytes, size_t) const { return bytes_left() / std::max(1ll, min_bytes); }
     void at(const std::string&, long long) {}  // binary errors are all truncation, reported by the caller
 
 private:
@@ -662,6 +718,12 @@ public:
     }
 
     long long bytes_left() const { return end_ - c_.pos(); }
+
+    /// Most items of `tokens` tokens each (>= 1) that the rest of the file can hold: n tokens take at
+    /// least 2n - 1 bytes (one character each, separated by whitespace).
+    long long max_items(long long, size_t tokens) const {
+        return (bytes_left() + 1) / 2 / static_cast<long long>(std::max<size_t>(1, tokens));
+    }
 
     void at(const std::string& element, long long index) {
         element_ = &element;
@@ -754,8 +816,19 @@ void read_ply_body(const std::string& path, const PlyHeader& h, const char* enco
             fail(path, std::string("truncated ") + encoding + " PLY: expected " + std::to_string(el.count) + " '" + el.name +
                            "' elements, file ends after " + std::to_string(done));
         };
-        // The count comes from the file: reserve no more than the remaining bytes could hold.
-        const long long plausible = std::min(el.count, r.bytes_left() / std::max(1ll, lay.min_bytes) + 1);
+        // An element without properties takes no bytes: nothing to read, whatever its count (a loop
+        // over a count of 2^63 - 1 would never end).
+        if (el.props.empty()) continue;
+        // The count comes from the file: every item takes at least one byte per property (binary) or
+        // one token per property (ASCII), so a count the rest of the file cannot hold is rejected
+        // before the loop, and no more than that is reserved.
+        const long long most = r.max_items(lay.min_bytes, el.props.size());
+        if (el.count > most)
+            fail(path, std::string("truncated ") + encoding + " PLY: expected " + std::to_string(el.count) + " '" +
+                           el.name + "' elements, but the " + std::to_string(r.bytes_left()) +
+                           " bytes left in the file can hold at most " + std::to_string(most) +
+                           " (the file is cut short or the header's count is wrong)");
+        const long long plausible = el.count;
         if (lay.role == PlyRole::vertex) mesh.points.reserve(mesh.points.size() + static_cast<size_t>(plausible));
         if (lay.role == PlyRole::face) mesh.triangles.reserve(mesh.triangles.size() + static_cast<size_t>(plausible));
 
@@ -793,11 +866,22 @@ void read_ply_body(const std::string& path, const PlyHeader& h, const char* enco
                 }
             }
             if (lay.role == PlyRole::vertex) mesh.points.push_back({xyz[0], xyz[1], xyz[2]});
-            if (extra >= 0 && lay.role == PlyRole::vertex) extras->vertex_floats.push_back(static_cast<float>(extra_value));
+            if (extra >= 0 && !std::isfinite(extra_value))
+                fail(path, "PLY element '" + el.name + "' " + std::to_string(i) + ": property '" + el.props[extra].name +
+                               "' is " + (std::isnan(extra_value) ? "NaN" : "infinite") + "; write a finite value");
+            if (extra >= 0 && lay.role == PlyRole::vertex) {
+                // Converting a double outside float's range to float is undefined behaviour.
+                if (std::fabs(extra_value) > std::numeric_limits<float>::max())
+                    fail(path, "PLY element 'vertex' " + std::to_string(i) + ": property '" + el.props[extra].name +
+                                   "' = " + short_number(extra_value) + " is out of the range of a float");
+                extras->vertex_floats.push_back(static_cast<float>(extra_value));
+            }
             if (extra >= 0 && lay.role == PlyRole::face) {
+                if (!(extra_value >= -2147483648.0 && extra_value <= 2147483647.0))
+                    fail(path, "PLY element 'face' " + std::to_string(i) + ": property '" + el.props[extra].name +
+                                   "' = " + short_number(extra_value) + " is out of the range of an int");
                 // One value per triangle of the polygon's fan.
-                const int value = static_cast<int>(std::clamp(extra_value, -2147483648.0, 2147483647.0));
-                extras->face_ints.resize(mesh.triangles.size(), value);
+                extras->face_ints.resize(mesh.triangles.size(), static_cast<int>(extra_value));
             }
         }
     }

@@ -1,6 +1,7 @@
 #include "quadcage/core/validate.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <numeric>
 #include <queue>
@@ -11,6 +12,14 @@
 
 namespace quadcage {
 namespace {
+
+// Supported scale: bounding-box diagonals in [kMinDiagonal, kMaxDiagonal] keep squared lengths,
+// areas and their products finite and normal in double precision.
+constexpr double kMinDiagonal = 1e-30;
+constexpr double kMaxDiagonal = 1e30;
+// volume / area^1.5 below this counts as no volume (a flat surface; 0.094 for a sphere, 3.5e-4 for
+// a 1 x 1 x 0.001 slab).
+constexpr double kMinVolumeRatio = 1e-10;
 
 struct UnionFind {
     std::vector<int> parent;
@@ -161,6 +170,20 @@ ValidationReport validate(const Mesh& mesh) {
     r.unused_vertices = n - r.vertices_used;
     const BoundingBox box = bounding_box(mesh);
     r.bbox_diagonal = box.diagonal();
+    // The pipeline's figures (areas, squared lengths, angles) stay finite only within a sane scale.
+    const bool bad_scale = r.non_finite_vertices == 0 &&
+                           (!std::isfinite(r.bbox_diagonal) || r.bbox_diagonal > kMaxDiagonal ||
+                            (r.bbox_diagonal > 0 && r.bbox_diagonal < kMinDiagonal));
+    if (bad_scale) {
+        std::ostringstream d;
+        d.precision(3);
+        d << r.bbox_diagonal;
+        add(E, "scale", 1,
+            (std::isfinite(r.bbox_diagonal) ? "the bounding-box diagonal " + d.str() + " is outside the supported range "
+                                            : std::string("the bounding-box diagonal overflows (coordinates too large to "
+                                                          "measure); the supported range is ")) +
+                "[1e-30, 1e30]; rescale the mesh (e.g. to unit size) first");
+    }
 
     if (r.non_finite_vertices > 0)
         add(E, "non_finite", r.non_finite_vertices,
@@ -187,7 +210,7 @@ ValidationReport validate(const Mesh& mesh) {
     // Zero-area triangles (relative to the model's size, so units do not matter).
     const double eps_area = 1e-14 * r.bbox_diagonal * r.bbox_diagonal;
     int first_zero = -1;
-    if (r.non_finite_vertices == 0)
+    if (r.non_finite_vertices == 0 && !bad_scale)
         for (int t : good)
             if (triangle_area(mesh, t) <= eps_area) {
                 if (first_zero < 0) first_zero = t;
@@ -294,7 +317,7 @@ ValidationReport validate(const Mesh& mesh) {
         tri_comp[t] = it->second;
         ComponentReport& c = r.components[it->second];
         ++c.triangles;
-        c.area += r.non_finite_vertices == 0 ? triangle_area(mesh, t) : 0.0;
+        c.area += r.non_finite_vertices == 0 && !bad_scale ? triangle_area(mesh, t) : 0.0;
     }
     auto comp_of_vertex = [&](int v) { return comp_of_root.at(vuf.find(v)); };
     for (int v = 0; v < n; ++v) {
@@ -348,6 +371,18 @@ ValidationReport validate(const Mesh& mesh) {
             }
         }
     }
+    // Enclosed volume of each closed orientable component (divergence theorem, triangles turned to
+    // agree), in coordinates centred on the bounding box so that the sum does not cancel badly.
+    std::vector<double> comp_volume(r.components.size(), 0.0);
+    if (r.non_finite_vertices == 0 && !bad_scale) {
+        const Vec3 centre = (box.min + box.max) * 0.5;
+        for (int t : good) {
+            const Triangle& f = mesh.triangles[t];
+            const Vec3 a = mesh.points[f[0]] - centre, b = mesh.points[f[1]] - centre, c = mesh.points[f[2]] - centre;
+            const double v = dot(a, cross(b, c)) / 6.0;
+            comp_volume[tri_comp[t]] += flip[t] == 1 ? -v : v;
+        }
+    }
     std::vector<int> comp_inconsistent(r.components.size(), 0);
     for (std::uint64_t k : inconsistent_keys) ++comp_inconsistent[comp_of_vertex(static_cast<int>(k >> 32))];
 
@@ -361,6 +396,31 @@ ValidationReport validate(const Mesh& mesh) {
         const int twice = 2 - c.euler_characteristic - c.boundary_loops;
         if (c.manifold && c.orientable && twice >= 0 && twice % 2 == 0) c.genus = twice / 2;
         if (c.closed && c.manifold && c.orientable && c.genus >= 0) c.minimal_quads = minimal_quad_count(c.genus);
+        if (c.closed && c.orientable) c.volume = std::fabs(comp_volume[ci]);
+    }
+
+    // Degenerate geometry: a closed surface of zero area or enclosing no volume (all its vertices
+    // at one point, on a line or in a plane) has no quad layout. Both are measured relative to the
+    // component's own size (volume / area^1.5, which is 0.094 for a sphere), so units do not matter.
+    if (r.non_finite_vertices == 0 && !bad_scale) {
+        long degenerate = 0;
+        std::string example;
+        for (size_t ci = 0; ci < r.components.size(); ++ci) {
+            ComponentReport& c = r.components[ci];
+            if (!c.quaddable()) continue;
+            const double eps = 1e-14 * r.bbox_diagonal * r.bbox_diagonal;
+            const bool flat_area = !(c.area > eps);
+            const bool flat_volume = !flat_area && !(c.volume > kMinVolumeRatio * c.area * std::sqrt(c.area));
+            if (!flat_area && !flat_volume) continue;
+            c.degenerate = true;
+            if (degenerate++ == 0)
+                example = "component " + std::to_string(ci) + (flat_area ? " has zero area (all its vertices coincide or lie on a line)"
+                                                                        : " encloses no volume (its vertices lie in a plane, or nearly)");
+        }
+        if (degenerate > 0)
+            add(E, "degenerate", degenerate,
+                plural(degenerate, "closed component is", "closed components are") + " degenerate: " + example +
+                    "; a cage needs a surface that encloses a solid");
     }
 
     // Errors, with an example each.
@@ -381,11 +441,30 @@ ValidationReport validate(const Mesh& mesh) {
                 "); duplicate the vertex per fan or repair the mesh");
     if (r.boundary_edges > 0) {
         const int a = static_cast<int>(boundary_edge_keys[0] >> 32);
+        // Vertices at exactly the position of another one: a file that stores every triangle with
+        // its own corners (an unwelded "triangle soup") looks open although its surface is closed.
+        std::vector<int> order;
+        for (int v = 0; v < n && r.non_finite_vertices == 0; ++v)  // NaN breaks the sort's ordering
+            if (used[v]) order.push_back(v);
+        auto less = [&](int x, int y) {
+            const Vec3 &p = mesh.points[x], &q = mesh.points[y];
+            return p.x != q.x ? p.x < q.x : (p.y != q.y ? p.y < q.y : p.z < q.z);
+        };
+        std::sort(order.begin(), order.end(), less);
+        long coincident = 0;
+        for (size_t i = 1; i < order.size(); ++i)
+            if (!less(order[i - 1], order[i]) && !less(order[i], order[i - 1])) ++coincident;
+        std::string weld;
+        if (coincident > 0)
+            weld = "; " + plural(coincident, "vertex lies", "vertices lie") +
+                   " exactly on another vertex: if the file stores each triangle with its own corners (an unwelded "
+                   "triangle soup), merge coincident vertices first (e.g. MeshLab's Merge Close Vertices, or save "
+                   "it as STL, which quadcage welds)";
         add(E, "boundary", r.boundary_edges,
             "the surface is open: " + plural(r.boundary_edges, "boundary edge", "boundary edges") +
                 " in " + plural(r.boundary_loops, "loop", "loops") + " (e.g. at vertex " +
                 std::to_string(a) + " " + fmt_point(mesh.points[a]) +
-                "); a cage needs a closed surface: fill the holes first");
+                "); a cage needs a closed surface: fill the holes first" + weld);
     }
     const long non_orientable = std::count(comp_orientable.begin(), comp_orientable.end(), 0);
     if (r.non_manifold_edges == 0 && r.non_manifold_vertices == 0 && non_orientable > 0)

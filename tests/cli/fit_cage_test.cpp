@@ -148,3 +148,24 @@ TEST(CliFitCage, NanInTheCageExitsThree) {
 
 }  // namespace
 }  // namespace quadcage::test
+
+namespace quadcage::test {
+namespace {
+
+TEST(CliFitCage, ACageInTheOutputDirectoryUnderAnOutputsNameIsRefused) {
+    const fs::path dir = scratch_dir("quadcage_fit_cage_inout_");
+    const fs::path cage = dir / "fitted_cage.obj";
+    fs::copy_file(eight_quadriflow(), cage);
+    const std::string before = slurp(cage);
+    std::string log;
+    const int code = run_logged(std::string("'") + QUADCAGE_CLI + "' fit " + shell_quoted(eight()) + " --cage " +
+                                    shell_quoted(cage) + " --level 0 -q -o " + shell_quoted(dir),
+                                dir / "log.txt", &log);
+    EXPECT_EQ(code, 2) << log;
+    EXPECT_NE(log.find("would replace the input"), std::string::npos) << log;
+    EXPECT_EQ(slurp(cage), before);
+    fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace quadcage::test

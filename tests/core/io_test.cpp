@@ -242,13 +242,29 @@ TEST_F(IoObj, AllCornerFormsNegativeIndicesPolygonsAndIgnoredStatements) {
     EXPECT_EQ(info.dropped_faces, 1);
 }
 
-TEST_F(IoObj, OutOfRangeIndicesAreKeptNotThrown) {
-    const std::string p = write_bytes("range.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 2 9\nf -7 1 2\n");
-    Mesh m;
-    ASSERT_NO_THROW(m = read_mesh(p));
-    ASSERT_EQ(m.num_triangles(), 2);
-    EXPECT_EQ(m.triangles[0], (Triangle{-1, 1, 8}));
-    EXPECT_EQ(m.triangles[1], (Triangle{-4, 0, 1}));
+// OBJ indices that name no vertex are errors in the file's own numbering (issue 23); the other
+// formats number from 0 as stored, so they keep such indices for validate() (IoOff, IoPly below).
+TEST_F(IoObj, IndicesThatNameNoVertexAreReportedAsWritten) {
+    const std::string head = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+    const struct {
+        const char* face;
+        const char* expected;
+    } cases[] = {{"f 1 2 9\n", "line 4: face corner 9 refers to a vertex that does not exist (the file defines 3 vertices"},
+                 {"f 0 2 3\n", "line 4: face corner 0 is not a vertex index (OBJ indices count from 1"},
+                 {"f -7 1 2\n", "line 4: face corner -7 refers to a vertex that does not exist (the file has defined 3 vertices so far"},
+                 {"f 1/1/1 2//2 4/4\n", "line 4: face corner 4 refers"}};
+    for (const auto& c : cases) {
+        const std::string p = write_bytes("range.obj", head + c.face);
+        try {
+            read_mesh(p);
+            ADD_FAILURE() << c.face << ": no exception";
+        } catch (const InvalidInput& e) {
+            EXPECT_NE(std::string(e.what()).find(p + ", " + c.expected), std::string::npos) << e.what();
+        }
+    }
+    // A face may name vertices defined after it (positive indices).
+    const Mesh m = read_mesh(write_bytes("forward.obj", "f 1 2 3\n" + head));
+    EXPECT_EQ(m.triangles[0], (Triangle{0, 1, 2}));
 }
 
 // ------------------------------------------------------------------------------------------------

@@ -181,7 +181,9 @@ TEST(Validate, DuplicateTrianglesAreErrors) {
 
 TEST(Validate, ZeroAreaTrianglesAndUnusedVerticesAreWarnings) {
     Mesh m;
-    // A flat "tetrahedron": all four points on a line is degenerate everywhere.
+    // A flat "tetrahedron" (all four points in the plane z = 0) with one zero-area triangle: the
+    // triangle and the unused vertex are warnings; the flat whole is an error (issue 23: it
+    // encloses no volume, ValidateDegenerate below).
     m.points = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {0, 1, 0}, {5, 5, 5}};
     m.triangles = {{0, 1, 3}, {1, 2, 3}, {0, 2, 1}, {0, 3, 2}};
     const ValidationReport r = validate(m);
@@ -189,7 +191,8 @@ TEST(Validate, ZeroAreaTrianglesAndUnusedVerticesAreWarnings) {
     EXPECT_EQ(r.unused_vertices, 1);
     EXPECT_TRUE(has_issue(r, "zero_area", kWarning));
     EXPECT_TRUE(has_issue(r, "unused_vertices", kWarning));
-    EXPECT_TRUE(r.quaddable());
+    EXPECT_TRUE(has_issue(r, "degenerate", kError));
+    EXPECT_FALSE(r.quaddable());
 }
 
 TEST(Validate, EmptyMeshIsAnError) {
@@ -293,6 +296,117 @@ INSTANTIATE_TEST_SUITE_P(
                       SharedMeshCase{"cow.obj", -1, "pinched"},
                       SharedMeshCase{"truck.obj", -1, "non-manifold"}),
     [](const ::testing::TestParamInfo<SharedMeshCase>& info) { return test::identifier(info.param.file); });
+
+}  // namespace
+}  // namespace quadcage
+
+namespace quadcage {
+namespace {
+
+// Issue 23: degenerate geometry, scale and unwelded soups are rejected by validate() itself, so that
+// `info` (which prints validate()) and `layout` (prepare_for_quadding()) agree.
+
+Mesh scaled(Mesh m, double s, Vec3 axes = {1, 1, 1}) {
+    for (Vec3& p : m.points) p = {p.x * s * axes.x, p.y * s * axes.y, p.z * s * axes.z};
+    return m;
+}
+
+TEST(ValidateDegenerate, TetrahedronWithAllFourVerticesEqualIsRejected) {
+    Mesh m = tetrahedron();
+    for (Vec3& p : m.points) p = {0.5, 0.25, 2};
+    const ValidationReport r = validate(m);
+    EXPECT_FALSE(r.quaddable());
+    ASSERT_TRUE(has_issue(r, "degenerate", kError)) << r.error_summary();
+    EXPECT_NE(r.error_summary().find("zero area"), std::string::npos) << r.error_summary();
+    EXPECT_THROW(prepare_for_quadding(m, "points.obj"), InvalidInput);
+}
+
+TEST(ValidateDegenerate, TetrahedronWithFourCoplanarVerticesIsRejected) {
+    Mesh m = tetrahedron();
+    m.points[3] = {1, 1, 0};  // in the plane z = 0 of the other three
+    const ValidationReport r = validate(m);
+    EXPECT_FALSE(r.quaddable());
+    ASSERT_TRUE(has_issue(r, "degenerate", kError)) << r.error_summary();
+    EXPECT_NE(r.error_summary().find("encloses no volume"), std::string::npos) << r.error_summary();
+    try {
+        prepare_for_quadding(m, "flat.obj");
+        FAIL() << "no exception";
+    } catch (const InvalidInput& e) {
+        EXPECT_NE(std::string(e.what()).find("flat.obj: cannot be quadded"), std::string::npos) << e.what();
+    }
+}
+
+TEST(ValidateDegenerate, CollinearVerticesAreRejected) {
+    Mesh m = tetrahedron();
+    m.points = {{0, 0, 0}, {1, 1, 1}, {2, 2, 2}, {3, 3, 3}};
+    const ValidationReport r = validate(m);
+    EXPECT_TRUE(has_issue(r, "degenerate", kError)) << r.error_summary();
+}
+
+TEST(ValidateDegenerate, ThinSolidsAndTheRegularTetrahedronPass) {
+    const ValidationReport tet = validate(tetrahedron());
+    EXPECT_TRUE(tet.quaddable()) << tet.error_summary();
+    EXPECT_NEAR(tet.components[0].volume, 1.0 / 6.0, 1e-15);
+    // A sphere squashed to a 1000:1 disc still encloses a solid.
+    const ValidationReport disc = validate(scaled(shapes::icosphere(2), 1.0, {1, 1, 1e-3}));
+    EXPECT_TRUE(disc.quaddable()) << disc.error_summary();
+    EXPECT_FALSE(disc.components[0].degenerate);
+}
+
+TEST(ValidateDegenerate, OneDegenerateComponentAmongGoodOnesIsNamed) {
+    Mesh m = shapes::icosphere(1);
+    Mesh flat = tetrahedron();
+    flat.points[3] = {1, 1, 0};
+    append(m, flat, {5, 0, 0});
+    const ValidationReport r = validate(m);
+    ASSERT_EQ(r.components.size(), 2u);
+    EXPECT_FALSE(r.components[0].degenerate);
+    EXPECT_TRUE(r.components[1].degenerate);
+    EXPECT_NE(r.error_summary().find("component 1 encloses no volume"), std::string::npos) << r.error_summary();
+}
+
+TEST(ValidateScale, DiagonalsOutsideTheSupportedRangeAreRejected) {
+    for (double s : {1e-150, 1e-40, 1e40, 1e150}) {
+        const ValidationReport r = validate(scaled(shapes::icosphere(1), s));
+        EXPECT_FALSE(r.quaddable()) << s;
+        EXPECT_TRUE(has_issue(r, "scale", kError)) << s << ": " << r.error_summary();
+        EXPECT_NE(r.error_summary().find("rescale"), std::string::npos) << r.error_summary();
+    }
+    for (double s : {1e-25, 1e25}) {
+        const ValidationReport r = validate(scaled(shapes::icosphere(1), s));
+        EXPECT_TRUE(r.quaddable()) << s << ": " << r.error_summary();
+        EXPECT_TRUE(std::isfinite(r.components[0].area) && r.components[0].area > 0) << s;
+    }
+}
+
+TEST(ValidateScale, CoordinatesNear1e308OverflowTheDiagonalAndAreRejected) {
+    Mesh m = tetrahedron();
+    for (Vec3& p : m.points) p = p * 1e308 + Vec3{-1e308, 0, 0};
+    const ValidationReport r = validate(m);
+    EXPECT_EQ(r.non_finite_vertices, 0);
+    EXPECT_FALSE(std::isfinite(r.bbox_diagonal));
+    EXPECT_TRUE(has_issue(r, "scale", kError)) << r.error_summary();
+    EXPECT_NE(r.error_summary().find("overflows"), std::string::npos) << r.error_summary();
+}
+
+TEST(ValidateSoup, AnUnweldedClosedSurfaceGetsAHintToWeld) {
+    // Every triangle of an icosahedron with its own three corners: 20 open components.
+    const Mesh welded = shapes::icosphere(0);
+    Mesh soup;
+    for (const Triangle& t : welded.triangles) {
+        const int base = soup.num_vertices();
+        for (int v : t) soup.points.push_back(welded.points[v]);
+        soup.triangles.push_back({base, base + 1, base + 2});
+    }
+    const ValidationReport r = validate(soup);
+    EXPECT_EQ(r.components.size(), welded.triangles.size());
+    ASSERT_TRUE(has_issue(r, "boundary", kError));
+    EXPECT_NE(r.error_summary().find("merge coincident vertices"), std::string::npos) << r.error_summary();
+    // An open surface whose vertices are all distinct gets no such hint.
+    Mesh open = welded;
+    open.triangles.pop_back();
+    EXPECT_EQ(validate(open).error_summary().find("coincident"), std::string::npos);
+}
 
 }  // namespace
 }  // namespace quadcage

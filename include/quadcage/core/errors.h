@@ -14,6 +14,13 @@ public:
     using std::runtime_error::runtime_error;
 };
 
+/// A usage conflict found before any work: an output would replace an input (e.g. `layout D/cage.obj
+/// -o D`). The message names both paths and says what to do. The CLI maps it to exit code 2.
+class OutputConflict : public InvalidInput {
+public:
+    using InvalidInput::InvalidInput;
+};
+
 /// A broken internal invariant (a bug in quadcage, not in the input). The CLI maps it to exit code 1.
 class InternalError : public std::logic_error {
 public:

@@ -34,10 +34,12 @@ struct ComponentReport {
     int genus = -1;           ///< (2 - chi - boundary loops) / 2; -1 when not manifold or not orientable.
     int minimal_quads = -1;   ///< Quads of the minimal cage (10g-10, 4 for g=1, 6 for g=0); -1 if none.
     double area = 0;
+    double volume = 0;        ///< Enclosed volume (absolute value) when closed and orientable, else 0.
+    bool degenerate = false;  ///< Closed but of zero area or enclosing no volume (flat): not quaddable.
     int first_triangle = 0;   ///< Lowest triangle index in the component (identifies it).
 
     /// Closed, manifold and orientable: the quad pipeline accepts it.
-    bool quaddable() const { return closed && manifold && orientable && genus >= 0; }
+    bool quaddable() const { return closed && manifold && orientable && genus >= 0 && !degenerate; }
 };
 
 /// Everything validate() found.
@@ -66,9 +68,11 @@ struct ValidationReport {
     std::string error_summary() const;
 };
 
-/// Checks a mesh as loaded: finite coordinates, indices in range, unused vertices (counted, ignored),
-/// repeated-index, zero-area and duplicate triangles, non-manifold edges and vertices, boundary
-/// loops, orientation and orientability, connected components with the genus of each.
+/// Checks a mesh as loaded: finite coordinates, a scale whose bounding-box diagonal is in
+/// [1e-30, 1e30], indices in range, unused vertices (counted, ignored), repeated-index, zero-area
+/// and duplicate triangles, non-manifold edges and vertices, boundary loops (with a hint to weld
+/// when vertices coincide: an unwelded triangle soup), orientation and orientability, connected
+/// components with the genus of each, and degenerate components (zero area or no enclosed volume).
 /// Never throws on a bad mesh: it describes it. Runs in O(n log n).
 ValidationReport validate(const Mesh& mesh);
 
