@@ -363,6 +363,20 @@ void print_fit_summary(const std::string& tag, const fit::FitResult& fit, const 
                 fit.levels.back().absolute.rms > 0 ? written.tessellation.rms_error / fit.levels.back().absolute.rms : 0.0);
 }
 
+// The end of `fit`: the top report of several components, the outputs moved in at once, the JSON
+// asked for.
+int finish_fit(const FitCommandOptions& o, const Progress& progress, OutputDir& out, json& top, const json& parts) {
+    if (parts.size() > 1) {
+        top["component_reports"] = parts;
+        top["peak_memory_mib"] = peak_memory_mib();
+        write_text_file(out.path("report.json"), report_text(top, 2));
+    }
+    out.commit();
+    if (o.json) std::cout << (parts.size() == 1 ? parts[0] : top).dump(2) << "\n";
+    progress.say("wrote " + o.output_dir);
+    return kOk;
+}
+
 // `fit MESH --cage CAGE`: the user's control mesh, matched to MESH's components, fitted to each.
 int run_fit_cage(const FitCommandOptions& o) {
     Progress progress(o.quiet);
@@ -424,15 +438,7 @@ int run_fit_cage(const FitCommandOptions& o) {
                     pieces[c].num_vertices(), p.seconds);
         print_fit_summary(tag, p.fit, fit_options, written);
     }
-    if (nc > 1) {
-        top["component_reports"] = parts;
-        top["peak_memory_mib"] = peak_memory_mib();
-        write_text_file(out.path("report.json"), report_text(top, 2));
-    }
-    out.commit();
-    if (o.json) std::cout << (nc == 1 ? parts[0] : top).dump(2) << "\n";
-    progress.say("wrote " + o.output_dir);
-    return kOk;
+    return finish_fit(o, progress, out, top, parts);
 }
 
 }  // namespace
@@ -502,15 +508,7 @@ int run_fit(const FitCommandOptions& o) {
                     p.layout.report["quads"].get<int>(), p.layout_seconds, p.fit_seconds);
         print_fit_summary(tag, p.fit, fit_options, written);
     }
-    if (nc > 1) {
-        top["component_reports"] = parts;
-        top["peak_memory_mib"] = peak_memory_mib();
-        write_text_file(out.path("report.json"), report_text(top, 2));
-    }
-    out.commit();
-    if (o.json) std::cout << (nc == 1 ? parts[0] : top).dump(2) << "\n";
-    progress.say("wrote " + o.output_dir);
-    return kOk;  // a tolerance not met is reported in the summary and report.json, not an error
+    return finish_fit(o, progress, out, top, parts);  // a tolerance not met is reported, not an error
 }
 
 int run_cycles(const CyclesOptions& o) {
