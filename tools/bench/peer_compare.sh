@@ -54,11 +54,11 @@ if [ $reuse = 1 ]; then
   for k in 3 4; do [ -f "$out/level$k/bench.json" ] && runs+=("$out/level$k/bench.json"); done
 else
   if [ ${#level3[@]} -gt 0 ]; then
-    "$qc" bench "${level3[@]}" -o "$out/level3" --levels 3 --no-pictures
+    "$qc" bench "${level3[@]}" -o "$out/level3" --levels 3 --no-pictures >&2
     runs+=("$out/level3/bench.json")
   fi
   if [ ${#level4[@]} -gt 0 ]; then
-    "$qc" bench "${level4[@]}" -o "$out/level4" --levels 4 --no-pictures
+    "$qc" bench "${level4[@]}" -o "$out/level4" --levels 4 --no-pictures >&2
     runs+=("$out/level4/bench.json")
   fi
   wall=$((SECONDS - start))
@@ -94,7 +94,8 @@ def check_fit(mesh, surface):
         return "error", type(e).__name__
 
 head = ["mesh", "genus", "level", "control points ours / peer", "RMS ours", "RMS peer", "RMS ours/peer",
-        "Hausdorff ours", "Hausdorff peer", "Hausdorff ours/peer", "peer status", "attempts", "fit s ours / peer"]
+        "Hausdorff ours", "Hausdorff peer", "Hausdorff ours/peer", "peer status", "attempts",
+        "fit s (ours: level K alone / peer)"]
 if check:
     head += ["check_fit RMS ours / peer", "check_fit Hausdorff ours / peer"]
 print("| " + " | ".join(head) + " |")
