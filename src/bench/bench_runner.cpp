@@ -425,7 +425,7 @@ private:
             size_t attempt;
             fs::path obj;
             PolygonMeshStats stats;
-            double seconds_or_nan;
+            std::optional<double> seconds;
         };
         std::vector<Candidate> off_count;  // valid remeshes whose count is off
         bool last_count_off = false;
@@ -470,7 +470,7 @@ private:
             if (a.outcome == "ok" && !count_ok(st.vertices)) {
                 a.outcome = "control points " + std::to_string(st.vertices) + " not within 10% of ours " +
                             std::to_string(want_points);
-                off_count.push_back({p.attempts.size(), out, st, a.seconds.value_or(NAN)});
+                off_count.push_back({p.attempts.size(), out, st, a.seconds});
                 last_count_off = true;
             }
             p.attempts.push_back(a);
@@ -505,7 +505,7 @@ private:
                 p.faces = best.stats.faces;
                 p.quads = best.stats.quads;
                 p.irregular_vertices = best.stats.irregular_vertices;
-                if (std::isfinite(best.seconds_or_nan)) p.quadriflow_seconds = best.seconds_or_nan;
+                p.quadriflow_seconds = best.seconds;
             } else {
                 p.status = "fit " + fitted;
             }
