@@ -126,8 +126,10 @@ int main(int argc, char** argv) {
     BenchCommandOptions bench;
     CLI::App* bench_cmd = app.add_subcommand(
         "bench", "Benchmark many meshes. For each: `info --json` (exit 3 -> status rejected), `layout`,\n"
-                 "its picture, `fit --level K` per level with a deviation picture, and QuadriFlow through\n"
-                 "Blender as a peer (if `blender` is on PATH). Every stage runs in its own child process\n"
+                 "its picture, `fit --level K` per level with a deviation picture, and per level the peer: a\n"
+                 "QuadriFlow remesh (through Blender, if `blender` is on PATH) at our control-face count,\n"
+                 "fitted by `fit --cage REMESH --level 0`, with the ratios ours / peer. Every stage runs in\n"
+                 "its own child process\n"
                  "with a timeout: a crash or timeout is recorded and the run goes on. A failed layout\n"
                  "skips that mesh's fits. Writes DIR/bench.csv, bench.json, bench.md, plot.png and\n"
                  "DIR/meshes/<name>/ (stage outputs, pictures, log.txt). Progress on stderr.\n"

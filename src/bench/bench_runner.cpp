@@ -125,6 +125,31 @@ std::optional<double> get_seconds(const json& j) {
     return get_double(j, {"seconds"});
 }
 
+// What a fit's report.json says about one level: the entry of `levels` with that level (or the
+// only entry), else nothing; seconds from the entry or else the whole report.
+struct FitFigures {
+    std::optional<int> control_points;
+    std::optional<double> relative_rms, relative_hausdorff, seconds;
+};
+
+FitFigures fit_figures(const json& j, int level) {
+    FitFigures f;
+    const json* entry = nullptr;
+    if (const json* ls = at_path(j, {"levels"}); ls && ls->is_array()) {
+        for (const json& e : *ls)
+            if (get_int(e, {"level"}) == level) entry = &e;
+        if (!entry && ls->size() == 1) entry = &(*ls)[0];
+    }
+    if (entry) {
+        f.control_points = get_int(*entry, {"control_points"});
+        f.relative_rms = get_double(*entry, {"relative", "rms"});
+        f.relative_hausdorff = get_double(*entry, {"relative", "hausdorff"});
+        f.seconds = get_seconds(*entry);
+    }
+    if (!f.seconds) f.seconds = get_seconds(j);
+    return f;
+}
+
 void remove_quietly(const fs::path& p) {
     std::error_code ec;
     fs::remove(p, ec);
@@ -181,9 +206,7 @@ private:
         for (int level : o_.levels)
             for (const char* f : {"report.json", "deviation.ply", "limit.ply", "deviation.png"})
                 remove_quietly(dir_ / ("level" + std::to_string(level)) / f);
-        for (const char* f : {"input.obj", "quadriflow_minimal.obj", "quadriflow_minimal.obj.json",
-                              "quadriflow_level2.obj", "quadriflow_level2.obj.json"})
-            remove_quietly(dir_ / "peer" / f);
+        fs::remove_all(dir_ / "peer", ec);  // the peer's remeshes and fits: all of it is this run's
         log("# quadcage bench: " + in_.path);
     }
 
@@ -238,6 +261,10 @@ private:
                 }
                 if (known && comps->size() <= 8) m_.genus = g;
                 else if (known) m_.genus = std::to_string(comps->size()) + " components";
+                if (known) {
+                    genus_total_ = 0;
+                    for (const json& c : *comps) *genus_total_ += *get_int(c, {"genus"});
+                }
             }
         }
         if (status != "ok") {
@@ -318,19 +345,11 @@ private:
             l.status = outcome(r, o_.timeout_seconds, &l.reason);
             if (l.status == "ok") {
                 if (const auto j = read_json(ldir / "report.json")) {
-                    const json* entry = nullptr;
-                    if (const json* ls = at_path(*j, {"levels"}); ls && ls->is_array()) {
-                        for (const json& e : *ls)
-                            if (get_int(e, {"level"}) == level) entry = &e;
-                        if (!entry && ls->size() == 1) entry = &(*ls)[0];
-                    }
-                    if (entry) {
-                        l.control_points = get_int(*entry, {"control_points"});
-                        l.relative_rms = get_double(*entry, {"relative", "rms"});
-                        l.relative_hausdorff = get_double(*entry, {"relative", "hausdorff"});
-                        l.fit_seconds = get_seconds(*entry);
-                    }
-                    if (!l.fit_seconds) l.fit_seconds = get_seconds(*j);
+                    const FitFigures f = fit_figures(*j, level);
+                    l.control_points = f.control_points;
+                    l.relative_rms = f.relative_rms;
+                    l.relative_hausdorff = f.relative_hausdorff;
+                    l.fit_seconds = f.seconds;
                     if (l.peak_memory_mib.value_or(0) <= 0) l.peak_memory_mib = get_double(*j, {"peak_memory_mib"});
                 } else {
                     l.status = "failed: no readable report.json";
@@ -344,68 +363,190 @@ private:
         }
     }
 
-    void run_peer() {
-        PeerResult a, b;
-        a.target = "minimal";
-        b.target = "level2";
-        if (m_.minimal_quads && *m_.minimal_quads > 0) {
-            a.target_faces = *m_.minimal_quads;
-            b.target_faces = 16 * *m_.minimal_quads;
+    // The first QuadriFlow attempt that has not been tried yet: after a valid remesh whose count is
+    // off, the target scaled by ours / its vertices; else other seeds, then nearby targets.
+    static std::pair<int, int> next_attempt(const std::vector<PeerAttempt>& done, int target, int want_points,
+                                            bool last_count_off) {
+        auto tried = [&](int t, int seed) {
+            for (const PeerAttempt& a : done)
+                if (a.target_faces == t && a.seed == seed) return true;
+            return false;
+        };
+        if (done.empty()) return {target, 0};
+        const PeerAttempt& last = done.back();
+        if (last_count_off && last.vertices && *last.vertices > 0) {
+            const int t = std::max(1, static_cast<int>(std::lround(double(last.target_faces) * want_points / *last.vertices)));
+            if (!tried(t, last.seed)) return {t, last.seed};
         }
-        m_.peers = {a, b};
-        const std::string blender = o_.peer ? find_on_path(o_.blender) : std::string();
-        for (PeerResult& p : m_.peers) {
-            if (!o_.peer) p.status = "disabled";
-            else if (blender.empty()) p.status = "not installed";
-            else if (m_.stage == "info") p.status = "not run (" + m_.status + ")";
-            else if (!p.target_faces) p.status = "failed: minimal quad count unknown";
-        }
-        if (!o_.peer || blender.empty() || m_.stage == "info" || !a.target_faces) return;
+        const auto near = [&](double f) { return std::max(1, static_cast<int>(std::lround(target * f))); };
+        const std::pair<int, int> plan[] = {{target, 1},     {target, 2},     {near(1.05), 0},
+                                            {near(0.95), 0}, {near(1.10), 0}, {near(0.90), 0}};
+        for (const auto& [t, seed] : plan)
+            if (!tried(t, seed)) return {t, seed};
+        return {near(1.0 + 0.05 * (done.size() + 1)), 0};
+    }
+
+    // Fits a remesh with `peer_fit`; "ok" (figures in p), "rejected: ..." (exit 3) or "failed: ...".
+    std::string fit_peer_cage(PeerResult& p, const fs::path& cage, const fs::path& fit_dir) {
         std::error_code ec;
-        if (o_.peer_script.empty() || !fs::exists(o_.peer_script, ec)) {
-            for (PeerResult& p : m_.peers) p.status = "failed: peer script not found (" + o_.peer_script + ")";
-            return;
-        }
-        // Blender reads OBJ everywhere; every input is handed over as OBJ written by quadcage.
-        const fs::path pdir = dir_ / "peer";
-        const fs::path obj = pdir / "input.obj";
-        try {
-            fs::create_directories(pdir, ec);
-            write_obj(obj.string(), read_mesh(in_.path));
-        } catch (const std::exception& e) {
-            for (PeerResult& p : m_.peers) p.status = std::string("failed: cannot convert the input: ") + e.what();
-            return;
-        }
-        for (PeerResult& p : m_.peers) {
-            const fs::path out = pdir / ("quadriflow_" + p.target + ".obj");
+        fs::remove_all(fit_dir, ec);
+        auto v = vars();
+        v["cage"] = cage.string();
+        v["dir"] = fit_dir.string();
+        const ChildResult r = stage("peer fit level " + std::to_string(p.level), substitute(o_.commands.peer_fit, v));
+        std::string reason;
+        const std::string status = outcome(r, o_.timeout_seconds, &reason);
+        if (status == "rejected") return "rejected: " + reason;
+        if (status != "ok") return status;
+        const auto j = read_json(fit_dir / "report.json");
+        if (!j) return "failed: no readable report.json";
+        const FitFigures f = fit_figures(*j, 0);
+        p.control_points = f.control_points;
+        p.relative_rms = f.relative_rms;
+        p.relative_hausdorff = f.relative_hausdorff;
+        p.fit_seconds = f.seconds;
+        p.cage = rel_ + "/" + fs::relative(cage, dir_).generic_string();
+        return "ok";
+    }
+
+    // The peer at one level (see run_bench()): QuadriFlow attempts, then our fit of the chosen remesh.
+    void run_peer_level(PeerResult& p, const std::string& blender, const fs::path& input_obj) {
+        const fs::path pdir = dir_ / "peer" / ("level" + std::to_string(p.level));
+        std::error_code ec;
+        fs::create_directories(pdir, ec);
+        const int target = *p.target_faces;
+        int want_points = target + 2 - 2 * *genus_total_;
+        for (const LevelResult& l : m_.levels)
+            if (l.level == p.level && l.control_points) want_points = *l.control_points;
+        const auto count_ok = [&](int vertices) {
+            return vertices > 0 && std::max(vertices, want_points) <= kPeerCountTolerance * std::min(vertices, want_points);
+        };
+        struct Candidate {
+            size_t attempt;
+            fs::path obj;
+            PolygonMeshStats stats;
+            std::optional<double> seconds;
+        };
+        std::vector<Candidate> off_count;  // valid remeshes whose count is off
+        bool last_count_off = false;
+        const int max_attempts = std::max(1, o_.peer_attempts);
+        for (int i = 0; i < max_attempts; ++i) {
+            const auto [t, seed] = next_attempt(p.attempts, target, want_points, last_count_off);
+            last_count_off = false;
+            PeerAttempt a;
+            a.target_faces = t;
+            a.seed = seed;
+            const fs::path out = pdir / ("quadriflow_" + std::to_string(t) + "_seed" + std::to_string(seed) + ".obj");
+            remove_quietly(out);
+            remove_quietly(out.string() + ".json");
             auto v = vars();
             v["blender"] = blender;
             v["script"] = o_.peer_script;
-            v["mesh"] = obj.string();
+            v["mesh"] = input_obj.string();
             v["out"] = out.string();
-            v["faces"] = std::to_string(*p.target_faces);
-            const ChildResult r = stage("quadriflow " + p.target, substitute(o_.commands.peer, v));
-            p.status = outcome(r, o_.timeout_seconds, nullptr);
-            if (p.status == "rejected") p.status = "failed: " + reason_line(r.stderr_text);
-            if (p.status != "ok") continue;
-            if (const auto j = read_json(out.string() + ".json")) p.seconds = get_double(*j, {"seconds"});
-            if (!fs::exists(out, ec)) {
-                p.status = "failed: no output written";
-                continue;
-            }
-            try {
-                const PolygonMeshStats st = polygon_obj_stats(out.string());
-                if (st.faces == 0) {
-                    p.status = "empty";
-                    continue;
+            v["faces"] = std::to_string(t);
+            v["seed"] = std::to_string(seed);
+            const ChildResult r = stage("quadriflow level " + std::to_string(p.level) + " target " + std::to_string(t) +
+                                            " seed " + std::to_string(seed),
+                                        substitute(o_.commands.peer, v));
+            a.outcome = outcome(r, o_.timeout_seconds, nullptr);
+            if (a.outcome == "rejected") a.outcome = "failed: " + reason_line(r.stderr_text);
+            if (const auto j = read_json(out.string() + ".json")) a.seconds = get_double(*j, {"seconds"});
+            PolygonMeshStats st;
+            if (a.outcome == "ok" && !fs::exists(out, ec)) a.outcome = "failed: no output written";
+            if (a.outcome == "ok") {
+                try {
+                    st = polygon_obj_stats(out.string());
+                    a.faces = st.faces;
+                    a.quads = st.quads;
+                    a.vertices = st.vertices;
+                    a.genus = st.genus;
+                    const std::string problem = peer_cage_problem(st, *genus_total_, m_.components.value_or(1));
+                    if (!problem.empty()) a.outcome = problem;
+                } catch (const InvalidInput& e) {
+                    a.outcome = std::string("failed: ") + e.what();
                 }
+            }
+            if (a.outcome == "ok" && !count_ok(st.vertices)) {
+                a.outcome = "control points " + std::to_string(st.vertices) + " not within 10% of ours " +
+                            std::to_string(want_points);
+                off_count.push_back({p.attempts.size(), out, st, a.seconds});
+                last_count_off = true;
+            }
+            p.attempts.push_back(a);
+            if (a.outcome != "ok") continue;
+            const std::string fitted = fit_peer_cage(p, out, pdir / "fit");
+            if (fitted == "ok") {
+                p.status = "ok";
                 p.faces = st.faces;
                 p.quads = st.quads;
-                p.genus = st.genus;
                 p.irregular_vertices = st.irregular_vertices;
-            } catch (const InvalidInput& e) {
-                p.status = std::string("failed: ") + e.what();
+                p.quadriflow_seconds = a.seconds;
+                return;
             }
+            if (fitted.rfind("rejected: ", 0) == 0) {
+                p.attempts.back().outcome = "fit " + fitted;  // our fitter refused it: try another remesh
+                continue;
+            }
+            p.attempts.back().outcome = "fit " + fitted;
+            p.status = "fit " + fitted;
+            return;
+        }
+        if (!off_count.empty()) {
+            // No remesh matched the count: fit the closest one; its ratios will not count.
+            const auto distance = [&](const Candidate& c) { return std::abs(std::log(double(c.stats.vertices) / want_points)); };
+            const Candidate best = *std::min_element(off_count.begin(), off_count.end(), [&](const Candidate& x, const Candidate& y) {
+                return distance(x) < distance(y);
+            });
+            const std::string fitted = fit_peer_cage(p, best.obj, pdir / "fit");
+            p.attempts[best.attempt].outcome += fitted == "ok" ? " (fitted: the closest count)" : "; fit " + fitted;
+            if (fitted == "ok") {
+                p.status = "ok";
+                p.faces = best.stats.faces;
+                p.quads = best.stats.quads;
+                p.irregular_vertices = best.stats.irregular_vertices;
+                p.quadriflow_seconds = best.seconds;
+            } else {
+                p.status = "fit " + fitted;
+            }
+            return;
+        }
+        const std::string& last = p.attempts.back().outcome;
+        p.status = last.rfind("failed: ", 0) == 0 ? last : "failed: " + last;
+    }
+
+    void run_peer() {
+        for (int level : o_.levels) {
+            PeerResult p;
+            p.level = level;
+            const std::optional<int> quads = m_.quads ? m_.quads : m_.minimal_quads;
+            if (quads && *quads > 0 && level <= 8) p.target_faces = *quads << (2 * level);
+            m_.peers.push_back(p);
+        }
+        if (m_.peers.empty()) return;
+        const std::string blender = o_.peer ? find_on_path(o_.blender) : std::string();
+        std::string common;
+        if (!o_.peer) common = "disabled";
+        else if (blender.empty()) common = "not installed";
+        else if (m_.stage == "info") common = "not run (" + m_.status + ")";
+        else if (!genus_total_) common = "failed: the input's genus is unknown";
+        std::error_code ec;
+        if (common.empty() && (o_.peer_script.empty() || !fs::exists(o_.peer_script, ec)))
+            common = "failed: peer script not found (" + o_.peer_script + ")";
+        // Blender reads OBJ everywhere; every input is handed over as OBJ written by quadcage.
+        const fs::path obj = dir_ / "peer" / "input.obj";
+        if (common.empty()) {
+            try {
+                fs::create_directories(obj.parent_path(), ec);
+                write_obj(obj.string(), read_mesh(in_.path));
+            } catch (const std::exception& e) {
+                common = std::string("failed: cannot convert the input: ") + e.what();
+            }
+        }
+        for (PeerResult& p : m_.peers) {
+            if (!common.empty()) p.status = common;
+            else if (!p.target_faces) p.status = "failed: our quad count is unknown";
+            else run_peer_level(p, blender, obj);
         }
         remove_quietly(obj);  // a copy of the input; not worth keeping
     }
@@ -418,19 +559,31 @@ private:
     fs::path dir_, log_;
     std::string rel_;
     MeshResult m_;
+    std::optional<int> genus_total_;  // the input's genus summed over its components (from info)
 };
 
+// Our curve and, beside it, the peer's (QuadriFlow cages fitted by our fitter) for every mesh.
 void write_plot(BenchResult& result, const std::string& dir) {
     std::vector<render::Series> series;
+    const auto add = [&series](render::Series s) {
+        if (!s.x.empty()) series.push_back(std::move(s));
+    };
     for (const MeshResult& m : result.meshes) {
-        render::Series s;
-        s.name = m.input.name;
+        render::Series ours, peer;
+        ours.name = m.input.name;
+        peer.name = m.input.name + " (QuadriFlow)";
         for (const LevelResult& l : m.levels)
             if (l.control_points && l.relative_rms && *l.control_points > 0 && *l.relative_rms > 0) {
-                s.x.push_back(*l.control_points);
-                s.y.push_back(*l.relative_rms);
+                ours.x.push_back(*l.control_points);
+                ours.y.push_back(*l.relative_rms);
             }
-        if (!s.x.empty()) series.push_back(s);
+        for (const PeerResult& p : m.peers)
+            if (p.status == "ok" && p.control_points && p.relative_rms && *p.control_points > 0 && *p.relative_rms > 0) {
+                peer.x.push_back(*p.control_points);
+                peer.y.push_back(*p.relative_rms);
+            }
+        add(ours);
+        add(peer);
     }
     if (series.empty()) return;
     render::PlotOptions po;
@@ -447,6 +600,7 @@ std::string BenchOptions::validate() const {
     if (output_dir.empty()) return "no output folder given";
     if (executable.empty()) return "no quadcage executable given";
     if (jobs < 1 || jobs > 64) return "jobs must be 1..64";
+    if (peer_attempts < 1 || peer_attempts > 16) return "peer attempts must be 1..16";
     if (!(timeout_seconds > 0) || !std::isfinite(timeout_seconds)) return "timeout must be a positive number of seconds";
     if (!(tolerance >= 0) || !std::isfinite(tolerance)) return "tolerance must be >= 0";
     for (size_t i = 0; i < levels.size(); ++i) {

@@ -1,5 +1,6 @@
 #include "quadcage/bench/tables.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -43,23 +44,20 @@ json opt(const std::optional<T>& v) {
 }
 json opt(const std::string& s) { return s.empty() ? json(nullptr) : json(s); }
 
-const PeerResult* peer(const MeshResult& m, const std::string& target) {
+const PeerResult* peer_at(const MeshResult& m, int level) {
     for (const PeerResult& p : m.peers)
-        if (p.target == target) return &p;
+        if (p.level == level) return &p;
     return nullptr;
 }
 
-void add_peer_cells(std::vector<std::string>& row, const PeerResult* p) {
-    if (!p) {
-        row.insert(row.end(), {kMissing, kMissing, kMissing, kMissing, kMissing, kMissing});
-        return;
-    }
-    row.push_back(cell(p->status));
-    row.push_back(cell(p->target_faces));
-    row.push_back(cell(p->quads));
-    row.push_back(cell(p->genus));
-    row.push_back(cell(p->irregular_vertices));
-    row.push_back(cell(p->seconds, "%.2f"));
+std::string ratio_cell(const std::optional<double>& ratio, const std::string& note) {
+    return ratio ? fmt("%.3g", *ratio) : note.empty() ? kMissing : note;
+}
+
+double median(std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    const size_t n = v.size();
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
 // Rows of one mesh: one per level, or one with level "-" when the mesh stopped before the fits.
@@ -122,6 +120,39 @@ std::string md_rule(size_t n, size_t text_columns) {
 
 }  // namespace
 
+PeerComparison compare_with_peer(const LevelResult& ours, const PeerResult* peer) {
+    PeerComparison c;
+    if (!peer || peer->status == "-") {
+        c.note = "n/a (no peer)";
+        return c;
+    }
+    // The status up to its first ':' ("failed", "fit failed", "not installed"): the details are in
+    // the status columns.
+    const auto head = [](const std::string& status) { return status.substr(0, status.find(':')); };
+    if (peer->status != "ok") {
+        c.note = "n/a (peer " + head(peer->status) + ")";
+        return c;
+    }
+    if (ours.status != "ok") {
+        c.note = "n/a (our fit " + head(ours.status) + ")";
+        return c;
+    }
+    if (!ours.control_points || !peer->control_points || !ours.relative_rms || !peer->relative_rms ||
+        !ours.relative_hausdorff || !peer->relative_hausdorff || !(*peer->relative_rms > 0) ||
+        !(*peer->relative_hausdorff > 0)) {
+        c.note = "n/a (a figure is missing)";
+        return c;
+    }
+    const int a = *ours.control_points, b = *peer->control_points;
+    if (a <= 0 || b <= 0 || std::max(a, b) > kPeerCountTolerance * std::min(a, b)) {
+        c.note = "n/a (" + std::to_string(a) + " vs " + std::to_string(b) + " control points)";
+        return c;
+    }
+    c.rms_ratio = *ours.relative_rms / *peer->relative_rms;
+    c.hausdorff_ratio = *ours.relative_hausdorff / *peer->relative_hausdorff;
+    return c;
+}
+
 BenchSummary summarize(const BenchResult& r) {
     BenchSummary s;
     s.meshes = static_cast<int>(r.meshes.size());
@@ -135,6 +166,21 @@ BenchSummary summarize(const BenchResult& r) {
         for (const LevelResult& l : m.levels)
             if (l.fit_seconds) s.fit_seconds += *l.fit_seconds;
     }
+    std::vector<double> rms, hausdorff;
+    for (const MeshResult& m : r.meshes)
+        for (const LevelResult& l : m.levels) {
+            const PeerComparison c = compare_with_peer(l, peer_at(m, l.level));
+            if (!c.counted()) continue;
+            rms.push_back(*c.rms_ratio);
+            hausdorff.push_back(*c.hausdorff_ratio);
+        }
+    s.peer_rows = static_cast<int>(rms.size());
+    if (!rms.empty()) {
+        s.rms_ratio_worst = *std::max_element(rms.begin(), rms.end());
+        s.rms_ratio_median = median(rms);
+        s.hausdorff_ratio_worst = *std::max_element(hausdorff.begin(), hausdorff.end());
+        s.hausdorff_ratio_median = median(hausdorff);
+    }
     return s;
 }
 
@@ -146,7 +192,20 @@ std::string summary_line(const BenchResult& r) {
                   "wall %.1f s",
                   s.meshes, s.meshes == 1 ? "" : "es", s.ok, s.rejected, s.failed, s.triangles, s.layout_seconds,
                   s.fit_seconds, s.wall_seconds);
-    return buf;
+    std::string line = buf;
+    bool peer_ran = false;
+    for (const MeshResult& m : r.meshes)
+        for (const PeerResult& p : m.peers) peer_ran = peer_ran || !p.attempts.empty();
+    if (s.peer_rows > 0) {
+        std::snprintf(buf, sizeof buf,
+                      "; ours / QuadriFlow over %d row%s: RMS worst %.3g median %.3g, Hausdorff worst %.3g median %.3g",
+                      s.peer_rows, s.peer_rows == 1 ? "" : "s", *s.rms_ratio_worst, *s.rms_ratio_median,
+                      *s.hausdorff_ratio_worst, *s.hausdorff_ratio_median);
+        line += buf;
+    } else if (peer_ran) {
+        line += "; ours / QuadriFlow: no row at equal control points";
+    }
+    return line;
 }
 
 std::vector<std::string> table_columns() {
@@ -154,9 +213,10 @@ std::vector<std::string> table_columns() {
                                   "triangles",     "components",     "genus",      "minimal_quads",  "quads",
                                   "corners",       "corners_by_degree", "verified", "layout_s",      "level",
                                   "control_points", "relative_rms",  "relative_hausdorff", "fit_s",  "peak_mib"};
-    for (const char* t : {"peer_minimal", "peer_level2"})
-        for (const char* f : {"status", "target_faces", "quads", "genus", "irregular", "s"})
-            c.push_back(std::string(t) + "_" + f);
+    for (const char* f : {"peer_status", "peer_target_faces", "peer_attempts", "peer_faces", "peer_irregular",
+                          "peer_control_points", "peer_relative_rms", "peer_relative_hausdorff", "peer_fit_s",
+                          "peer_quadriflow_s", "rms_ratio", "hausdorff_ratio", "ratio_note"})
+        c.push_back(f);
     c.push_back("wall_s");
     return c;
 }
@@ -188,8 +248,17 @@ std::vector<std::vector<std::string>> table_rows(const BenchResult& r) {
                                       l ? cell(l->relative_hausdorff, "%.4g") : kMissing,
                                       l ? cell(l->fit_seconds, "%.3f") : kMissing,
                                       cell(peak, "%.1f")};
-        add_peer_cells(c, peer(m, "minimal"));
-        add_peer_cells(c, peer(m, "level2"));
+        const PeerResult* p = l ? peer_at(m, l->level) : nullptr;
+        if (p) {
+            const PeerComparison cmp = compare_with_peer(*l, p);
+            c.insert(c.end(), {cell(p->status), cell(p->target_faces), std::to_string(p->attempts.size()), cell(p->faces),
+                               cell(p->irregular_vertices), cell(p->control_points), cell(p->relative_rms, "%.4g"),
+                               cell(p->relative_hausdorff, "%.4g"), cell(p->fit_seconds, "%.3f"),
+                               cell(p->quadriflow_seconds, "%.2f"), cell(cmp.rms_ratio, "%.4g"),
+                               cell(cmp.hausdorff_ratio, "%.4g"), cell(cmp.note)});
+        } else {
+            c.insert(c.end(), 13, kMissing);
+        }
         c.push_back(fmt("%.2f", m.wall_seconds));
         out.push_back(std::move(c));
     }
@@ -218,6 +287,10 @@ std::string bench_json(const BenchResult& r) {
                     {"layout_seconds", s.layout_seconds},
                     {"fit_seconds", s.fit_seconds},
                     {"wall_seconds", s.wall_seconds},
+                    {"peer_ratios",
+                     {{"rows", s.peer_rows},
+                      {"rms", {{"worst", opt(s.rms_ratio_worst)}, {"median", opt(s.rms_ratio_median)}}},
+                      {"hausdorff", {{"worst", opt(s.hausdorff_ratio_worst)}, {"median", opt(s.hausdorff_ratio_median)}}}}},
                     {"line", summary_line(r)}};
     j["levels"] = r.levels;
     j["plot"] = opt(r.plot_png);
@@ -258,16 +331,39 @@ std::string bench_json(const BenchResult& r) {
                               {"deviation_png", opt(l.deviation_png)}});
         jm["levels"] = levels;
         json peers = json::array();
-        for (const PeerResult& p : m.peers)
+        for (const PeerResult& p : m.peers) {
+            json attempts = json::array();
+            for (const PeerAttempt& a : p.attempts)
+                attempts.push_back({{"target_faces", a.target_faces},
+                                    {"seed", a.seed},
+                                    {"outcome", a.outcome},
+                                    {"faces", opt(a.faces)},
+                                    {"quads", opt(a.quads)},
+                                    {"vertices", opt(a.vertices)},
+                                    {"genus", opt(a.genus)},
+                                    {"seconds", opt(a.seconds)}});
+            const LevelResult* ours = nullptr;
+            for (const LevelResult& l : m.levels)
+                if (l.level == p.level) ours = &l;
+            const PeerComparison c = ours ? compare_with_peer(*ours, &p) : PeerComparison{{}, {}, "n/a (no fit of ours)"};
             peers.push_back({{"tool", "quadriflow"},
-                             {"target", p.target},
+                             {"level", p.level},
                              {"target_faces", opt(p.target_faces)},
                              {"status", p.status},
+                             {"attempts", attempts},
+                             {"cage", opt(p.cage)},
                              {"faces", opt(p.faces)},
                              {"quads", opt(p.quads)},
-                             {"genus", opt(p.genus)},
                              {"irregular_vertices", opt(p.irregular_vertices)},
-                             {"seconds", opt(p.seconds)}});
+                             {"control_points", opt(p.control_points)},
+                             {"relative_rms", opt(p.relative_rms)},
+                             {"relative_hausdorff", opt(p.relative_hausdorff)},
+                             {"fit_seconds", opt(p.fit_seconds)},
+                             {"quadriflow_seconds", opt(p.quadriflow_seconds)},
+                             {"rms_ratio", opt(c.rms_ratio)},
+                             {"hausdorff_ratio", opt(c.hausdorff_ratio)},
+                             {"ratio_note", opt(c.note)}});
+        }
         jm["peer"] = peers;
         jm["notes"] = m.notes;
         meshes.push_back(jm);
@@ -306,21 +402,43 @@ std::string bench_markdown(const BenchResult& r) {
                       l ? cell(l->fit_seconds, "%.2f") : kMissing, cell(peak, "%.0f")});
     }
 
-    md += "\n## Peer: QuadriFlow (Blender)\n\n"
-          "QuadriFlow remeshes each input at (a) our minimal quad count and (b) 16 times it (the quad count of "
-          "our level-2 cage). Irregular vertices: valence other than 4.\n\n";
-    const std::vector<std::string> phead = {"name", "our quads", "target", "status", "faces", "quads", "genus",
-                                            "irregular", "seconds"};
-    md += md_row(phead) + md_rule(phead.size(), 4);
-    for (const MeshResult& m : r.meshes) {
-        if (m.peers.empty()) {
-            md += md_row({m.input.name, cell(m.quads), kMissing, "-", kMissing, kMissing, kMissing, kMissing, kMissing});
-            continue;
+    md += "\n## Peer: QuadriFlow cages fitted by our fitter\n\n"
+          "At each level K, QuadriFlow (Blender) remeshes the input at our level-K control-face count (quads x 4^K, "
+          "which is our control points + 2g - 2, so that the remesh's vertices match our control points), and "
+          "`quadcage fit --cage REMESH --level 0` fits the remesh's own vertices. Ratios are ours / peer (below 1: "
+          "ours is closer to the input); they count only when the two control-point counts are within 10% of each "
+          "other. Irregular: remesh vertices of valence other than 4.\n\n";
+    const std::vector<std::string> phead = {"name", "level", "control points (ours / peer)", "rel. RMS (ours / peer)",
+                                            "rel. Hausdorff (ours / peer)", "RMS ratio", "Hausdorff ratio",
+                                            "peer status", "target faces", "attempts", "peer faces", "irregular",
+                                            "peer fit s", "QuadriFlow s"};
+    md += md_row(phead) + md_rule(phead.size(), 2);
+    bool any_peer = false, any_failed_attempt = false;
+    for (const MeshResult& m : r.meshes)
+        for (const LevelResult& l : m.levels) {
+            const PeerResult* p = peer_at(m, l.level);
+            if (!p) continue;
+            any_peer = true;
+            const PeerComparison c = compare_with_peer(l, p);
+            md += md_row({m.input.name, std::to_string(l.level), cell(l.control_points) + " / " + cell(p->control_points),
+                          cell(l.relative_rms, "%.3g") + " / " + cell(p->relative_rms, "%.3g"),
+                          cell(l.relative_hausdorff, "%.3g") + " / " + cell(p->relative_hausdorff, "%.3g"),
+                          ratio_cell(c.rms_ratio, c.note), ratio_cell(c.hausdorff_ratio, c.note), cell(p->status),
+                          cell(p->target_faces), std::to_string(p->attempts.size()), cell(p->faces),
+                          cell(p->irregular_vertices), cell(p->fit_seconds, "%.2f"),
+                          cell(p->quadriflow_seconds, "%.2f")});
+            for (const PeerAttempt& a : p->attempts) any_failed_attempt = any_failed_attempt || a.outcome != "ok";
         }
-        for (const PeerResult& p : m.peers)
-            md += md_row({m.input.name, cell(m.quads), p.target + " (" + cell(p.target_faces) + ")", cell(p.status),
-                          cell(p.faces), cell(p.quads), cell(p.genus), cell(p.irregular_vertices),
-                          cell(p.seconds, "%.2f")});
+    if (!any_peer) md += md_row({"(no peer: no level ran)", "", "", "", "", "", "", "", "", "", "", "", "", ""});
+    if (any_failed_attempt) {
+        md += "\nQuadriFlow attempts not fitted as they were (target faces, seed: outcome):\n\n";
+        for (const MeshResult& m : r.meshes)
+            for (const PeerResult& p : m.peers)
+                for (const PeerAttempt& a : p.attempts)
+                    if (a.outcome != "ok")
+                        md += "- " + md_escape(m.input.name) + " level " + std::to_string(p.level) + ", " +
+                              std::to_string(a.target_faces) + " faces, seed " + std::to_string(a.seed) + ": " +
+                              md_escape(a.outcome) + (a.faces ? " (" + std::to_string(*a.faces) + " faces)" : "") + "\n";
     }
 
     md += "\n## Pictures\n";

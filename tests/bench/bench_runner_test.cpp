@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <csignal>
 #include <cstdlib>
 #include <filesystem>
@@ -63,7 +64,7 @@ protected:
                              "-q"};
         o.blender = FAKE_CHILD;
         o.peer_script = FAKE_CHILD;  // any existing file; the fake ignores it
-        o.commands.peer = {"{blender}", "quadriflow", "{mesh}", "{out}", "{faces}"};
+        o.commands.peer = {"{blender}", "quadriflow", "{mesh}", "{out}", "{faces}", "{seed}"};
         return o;
     }
 
@@ -166,16 +167,31 @@ TEST_F(BenchRunner, ReadsTheChildReportsDrawsPicturesAndTheRmsPlot) {
     ASSERT_EQ(r.plot_png, "plot.png");
     EXPECT_GT(render::read_png((fs::path(options().output_dir) / "plot.png").string()).width(), 0);
 
-    // Peer (the fake returns a cube of 6 quads): targets 6 and 96, counts of the returned mesh.
+    // Peer at each level: QuadriFlow at our control-face count (8 quads * 4^K), the remesh fitted at
+    // level 0 by the fit --cage command; its figures and the ratios ours / peer.
     ASSERT_EQ(m.peers.size(), 2u);
-    EXPECT_EQ(m.peers[0].target_faces, 6);
-    EXPECT_EQ(m.peers[1].target_faces, 96);
-    for (const PeerResult& p : m.peers) {
+    for (int k = 0; k < 2; ++k) {
+        const PeerResult& p = m.peers[k];
+        SCOPED_TRACE("level " + std::to_string(k));
+        EXPECT_EQ(p.level, k);
+        EXPECT_EQ(p.target_faces, 8 << (2 * k));
         EXPECT_EQ(p.status, "ok");
-        EXPECT_EQ(p.quads, 6);
-        EXPECT_EQ(p.genus, 0);
-        EXPECT_EQ(p.irregular_vertices, 8);
-        EXPECT_DOUBLE_EQ(p.seconds.value_or(-1), 0.5);
+        ASSERT_EQ(p.attempts.size(), 1u);
+        EXPECT_EQ(p.attempts[0].seed, 0);
+        EXPECT_EQ(p.attempts[0].outcome, "ok");
+        EXPECT_EQ(p.control_points, m.levels[k].control_points);  // the fake's box has as many vertices as asked
+        EXPECT_EQ(p.faces, p.control_points.value_or(0) - 2);
+        EXPECT_NEAR(p.relative_rms.value_or(-1), 0.02 / std::sqrt(8 << (2 * k)), 1e-12);
+        EXPECT_NEAR(p.relative_hausdorff.value_or(-1), 0.1 / std::sqrt(8 << (2 * k)), 1e-12);
+        EXPECT_DOUBLE_EQ(p.fit_seconds.value_or(-1), 0.25);
+        EXPECT_DOUBLE_EQ(p.quadriflow_seconds.value_or(-1), 0.5);
+        EXPECT_EQ(p.cage, "meshes/good/peer/level" + std::to_string(k) + "/quadriflow_" + std::to_string(8 << (2 * k)) +
+                              "_seed0.obj");
+        const PeerComparison c = compare_with_peer(m.levels[k], &p);
+        ASSERT_TRUE(c.counted()) << c.note;
+        EXPECT_NEAR(*c.rms_ratio, *m.levels[k].relative_rms / *p.relative_rms, 1e-12);
+        EXPECT_NEAR(*c.rms_ratio, std::sqrt(2.0), 1e-9);  // 0.01 / 2^K against 0.02 / (sqrt(8) 2^K)
+        EXPECT_NEAR(*c.hausdorff_ratio, 0.04 * std::sqrt(8.0) / 0.1, 1e-9);
     }
     // bench.md links the pictures relative to its folder.
     write_bench_tables(options().output_dir, r);
@@ -183,30 +199,151 @@ TEST_F(BenchRunner, ReadsTheChildReportsDrawsPicturesAndTheRmsPlot) {
     EXPECT_NE(md.find("](meshes/good/layout.png)"), std::string::npos);
     EXPECT_NE(md.find("](meshes/good/level1/deviation.png)"), std::string::npos);
     EXPECT_NE(md.find("](plot.png)"), std::string::npos);
+    EXPECT_NE(md.find("| good | 1 | 32 / 32 |"), std::string::npos) << md;
+    // The summary line carries the ratios over the two counted rows.
+    EXPECT_NE(summary_line(r).find("ours / QuadriFlow over 2 rows: RMS worst 1.41 median 1.41, Hausdorff worst 1.13 "
+                                   "median 1.13"),
+              std::string::npos)
+        << summary_line(r);
 }
 
 TEST_F(BenchRunner, PeerStatusWithoutBlenderWhenDisabledAndWhenItFails) {
     const BenchInput a = mesh("good");
     BenchOptions o = options();
     o.pictures = false;
-    o.levels = {};
+    o.levels = {0, 1};
     o.blender = (dir_ / "no-such-blender").string();
     BenchResult r = run_bench({a}, o);
     ASSERT_EQ(r.meshes[0].peers.size(), 2u);
     EXPECT_EQ(r.meshes[0].peers[0].status, "not installed");
     EXPECT_EQ(r.meshes[0].peers[1].status, "not installed");
+    EXPECT_TRUE(r.meshes[0].peers[0].attempts.empty());
     EXPECT_EQ(r.meshes[0].status, "ok");
+    EXPECT_EQ(compare_with_peer(r.meshes[0].levels[0], &r.meshes[0].peers[0]).note, "n/a (peer not installed)");
+    EXPECT_EQ(summary_line(r).find("QuadriFlow"), std::string::npos) << summary_line(r);
+    write_bench_tables(o.output_dir, r);
+    const auto j = nlohmann::json::parse(slurp(dir_ / "out" / "bench.json"));
+    EXPECT_EQ(j["meshes"][0]["peer"][1]["status"], "not installed");
+    EXPECT_TRUE(j["meshes"][0]["peer"][1]["rms_ratio"].is_null());
 
     o.peer = false;
     r = run_bench({a}, o);
     EXPECT_EQ(r.meshes[0].peers[0].status, "disabled");
 
+    // QuadriFlow failing every time: each attempt recorded (seeds 1 and 2, then nearby targets: 8 +-5%
+    // rounds to 8, already tried with seed 0, so 8 + 10% -> 9).
     o = options();
     o.pictures = false;
-    o.levels = {};
+    o.levels = {0};
     r = run_bench({mesh("peerbroken")}, o);
     EXPECT_EQ(r.meshes[0].status, "ok");  // the peer failing is not our failure
-    EXPECT_EQ(r.meshes[0].peers[0].status, "failed: quadriflow: error: QuadriFlow failed: the mesh is unchanged");
+    const PeerResult& p = r.meshes[0].peers.at(0);
+    EXPECT_EQ(p.status, "failed: quadriflow: error: QuadriFlow failed: the mesh is unchanged");
+    ASSERT_EQ(p.attempts.size(), 4u);
+    const std::pair<int, int> expected[] = {{8, 0}, {8, 1}, {8, 2}, {8, 0}};
+    for (size_t i = 0; i < 3; ++i) {
+        EXPECT_EQ(p.attempts[i].target_faces, expected[i].first);
+        EXPECT_EQ(p.attempts[i].seed, expected[i].second);
+        EXPECT_EQ(p.attempts[i].outcome, p.status);
+    }
+    EXPECT_EQ(p.attempts[3].target_faces, 9);
+    EXPECT_EQ(p.attempts[3].seed, 0);
+    EXPECT_EQ(p.attempts[3].outcome, p.status);
+    EXPECT_FALSE(p.control_points.has_value());
+    EXPECT_EQ(summary_line(r).substr(summary_line(r).find(';', summary_line(r).find("wall"))),
+              "; ours / QuadriFlow: no row at equal control points");
+}
+
+// A first remesh that is unusable (wrong genus, empty, open, refused by our fitter) is recorded with
+// its reason, and the next seed is tried.
+TEST_F(BenchRunner, PeerRetriesAnUnusableRemeshWithAnotherSeed) {
+    BenchOptions o = options();
+    o.pictures = false;
+    o.levels = {1};
+    const BenchResult r =
+        run_bench({mesh("peergenus"), mesh("peerempty"), mesh("peeropen"), mesh("peerfitrefuse")}, o);
+    const std::pair<const char*, const char*> cases[] = {
+        {"peergenus", "wrong genus 1 (input 0)"},
+        {"peerempty", "empty output (no faces)"},
+        {"peeropen", "open (4 boundary edges)"},
+        {"peerfitrefuse", "fit rejected: "}};
+    for (const auto& [name, reason] : cases) {
+        SCOPED_TRACE(name);
+        const MeshResult& m = by_name(r, name);
+        ASSERT_EQ(m.peers.size(), 1u);
+        const PeerResult& p = m.peers[0];
+        EXPECT_EQ(p.status, "ok");
+        ASSERT_EQ(p.attempts.size(), 2u);
+        EXPECT_EQ(p.attempts[0].target_faces, 32);
+        EXPECT_EQ(p.attempts[0].seed, 0);
+        EXPECT_EQ(p.attempts[0].outcome.rfind(reason, 0), 0u) << p.attempts[0].outcome;
+        EXPECT_EQ(p.attempts[1].target_faces, 32);
+        EXPECT_EQ(p.attempts[1].seed, 1);
+        EXPECT_EQ(p.attempts[1].outcome, "ok");
+        EXPECT_EQ(p.control_points, 32);
+        EXPECT_EQ(p.cage, "meshes/" + std::string(name) + "/peer/level1/quadriflow_32_seed1.obj");
+        EXPECT_TRUE(compare_with_peer(m.levels.at(0), &p).counted());
+    }
+    EXPECT_NE(by_name(r, "peerfitrefuse").peers[0].attempts[0].outcome.find("the cage is far from the mesh"),
+              std::string::npos);
+    // The failed attempts are listed in bench.md and bench.json.
+    write_bench_tables(o.output_dir, r);
+    const std::string md = slurp(dir_ / "out" / "bench.md");
+    EXPECT_NE(md.find("- peergenus level 1, 32 faces, seed 0: wrong genus 1 (input 0) (16 faces)"), std::string::npos)
+        << md;
+    const auto j = nlohmann::json::parse(slurp(dir_ / "out" / "bench.json"));
+    EXPECT_EQ(j["meshes"][1]["peer"][0]["attempts"][0]["outcome"], "empty output (no faces)");
+    EXPECT_EQ(j["meshes"][1]["peer"][0]["attempts"][1]["seed"], 1);
+}
+
+// A remesh with half the vertices asked for: the next attempt asks for twice the faces and matches.
+TEST_F(BenchRunner, PeerRetargetsWhenTheCountIsOff) {
+    BenchOptions o = options();
+    o.pictures = false;
+    o.levels = {1};
+    const BenchResult r = run_bench({mesh("peerhalf")}, o);
+    const PeerResult& p = r.meshes[0].peers.at(0);
+    EXPECT_EQ(p.status, "ok");
+    ASSERT_EQ(p.attempts.size(), 2u);
+    EXPECT_EQ(p.attempts[0].vertices, 16);
+    EXPECT_EQ(p.attempts[0].outcome, "control points 16 not within 10% of ours 32");
+    EXPECT_EQ(p.attempts[1].target_faces, 64);
+    EXPECT_EQ(p.attempts[1].seed, 0);
+    EXPECT_EQ(p.control_points, 32);
+    EXPECT_TRUE(compare_with_peer(r.meshes[0].levels.at(0), &p).counted());
+}
+
+// A remesh that never reaches our count is fitted (the closest one) but its ratios do not count.
+TEST_F(BenchRunner, PeerRatioIsSuppressedWhenTheCountsDifferByMoreThanTenPercent) {
+    BenchOptions o = options();
+    o.pictures = false;
+    o.levels = {0, 1};
+    const BenchResult r = run_bench({mesh("peercoarse")}, o);
+    const MeshResult& m = r.meshes[0];
+    ASSERT_EQ(m.peers.size(), 2u);
+    EXPECT_TRUE(compare_with_peer(m.levels[0], &m.peers[0]).counted());  // a cube is right at level 0 (8 points)
+    const PeerResult& p = m.peers[1];
+    EXPECT_EQ(p.status, "ok");
+    ASSERT_EQ(p.attempts.size(), 4u);
+    for (const PeerAttempt& a : p.attempts) EXPECT_EQ(a.vertices, 8);
+    EXPECT_EQ(p.attempts[1].target_faces, 128);  // 32 * 32 / 8
+    EXPECT_EQ(p.attempts[0].outcome, "control points 8 not within 10% of ours 32 (fitted: the closest count)");
+    EXPECT_EQ(p.control_points, 8);
+    ASSERT_TRUE(p.relative_rms.has_value());
+    const PeerComparison c = compare_with_peer(m.levels[1], &p);
+    EXPECT_FALSE(c.counted());
+    EXPECT_FALSE(c.hausdorff_ratio.has_value());
+    EXPECT_EQ(c.note, "n/a (32 vs 8 control points)");
+    EXPECT_NE(summary_line(r).find("ours / QuadriFlow over 1 row: "), std::string::npos) << summary_line(r);
+    write_bench_tables(o.output_dir, r);
+    const std::string csv = slurp(dir_ / "out" / "bench.csv");
+    EXPECT_NE(csv.find(",n/a (32 vs 8 control points),"), std::string::npos) << csv;
+    const std::string md = slurp(dir_ / "out" / "bench.md");
+    EXPECT_NE(md.find("| n/a (32 vs 8 control points) | n/a (32 vs 8 control points) |"), std::string::npos) << md;
+    const auto j = nlohmann::json::parse(slurp(dir_ / "out" / "bench.json"));
+    EXPECT_TRUE(j["meshes"][0]["peer"][1]["rms_ratio"].is_null());
+    EXPECT_EQ(j["meshes"][0]["peer"][1]["ratio_note"], "n/a (32 vs 8 control points)");
+    EXPECT_EQ(j["summary"]["peer_ratios"]["rows"], 1);
 }
 
 TEST_F(BenchRunner, ToleranceIsPassedToFit) {

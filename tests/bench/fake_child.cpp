@@ -1,13 +1,23 @@
 // A stand-in for the quadcage executable (and for Blender) in the bench tests: it answers the stage
-// commands `info MESH --json`, `layout MESH -o DIR`, `fit MESH -o DIR --level K` and
-// `quadriflow IN OUT FACES`, and misbehaves on purpose when the mesh's file name says so:
+// commands `info MESH --json`, `layout MESH -o DIR`, `fit MESH -o DIR --level K`,
+// `fit MESH --cage CAGE --level 0 -o DIR` and `quadriflow IN OUT FACES [SEED]`, and misbehaves on
+// purpose when the mesh's file name says so:
 //   reject  - info exits 3 with a reason          crash   - layout aborts (SIGABRT)
 //   segv    - layout raises SIGSEGV               sleep   - layout sleeps (with a grandchild) for 60 s
 //   fail    - layout exits 1 with a message       unverified - layout reports verified: false
 //   fitdies  - fit raises SIGSEGV at level >= 1    peerbroken - quadriflow exits 1
+//   peergenus - quadriflow with seed 0 returns a quad torus (genus 1)
+//   peerempty - quadriflow with seed 0 writes an OBJ without faces
+//   peeropen  - quadriflow with seed 0 returns a box with a face missing
+//   peerhalf  - quadriflow returns about half the vertices asked for
+//   peercoarse - quadriflow always returns a cube (8 vertices)
+//   peerfitrefuse - fit --cage exits 3 for a cage made with seed 0
 // Otherwise it writes outputs in the documented formats (report.json, layout.ply with a 'patch'
-// face property, deviation.ply with a 'distance' vertex property).
+// face property, deviation.ply with a 'distance' vertex property). Our fit at level K reports
+// 8 * 4^K control points, relative RMS 0.01 / 2^K and Hausdorff 0.04 / 2^K; a --cage fit reports the
+// cage's vertices N as control points, RMS 0.02 / sqrt(N) and Hausdorff 0.1 / sqrt(N).
 
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
@@ -121,17 +131,66 @@ int fit(const std::string& mesh_path, const std::string& dir, int level) {
     return 0;
 }
 
-// A quad cube (6 quads, 8 vertices of valence 3) as QuadriFlow's output.
-int quadriflow(const std::string& in, const std::string& out, int faces) {
-    if (in.find("peerbroken") != std::string::npos) {  // the input is DIR/meshes/<name>/peer/input.obj
+int fit_cage(const std::string& cage_path, const std::string& dir) {
+    if (cage_path.find("peerfitrefuse") != std::string::npos && has(cage_path, "seed0")) {
+        std::fprintf(stderr, "quadcage: error: %s: the cage is far from the mesh\n", cage_path.c_str());
+        return 3;
+    }
+    const quadcage::PolygonMesh cage = quadcage::read_polygon_mesh(cage_path);
+    const int n = static_cast<int>(cage.points.size());
+    json entry{{"level", 0},
+               {"control_points", n},
+               {"relative", {{"rms", 0.02 / std::sqrt(n)}, {"hausdorff", 0.1 / std::sqrt(n)}}},
+               {"seconds", {{"total", 0.25}}}};
+    json report{{"command", "fit"}, {"cage", cage_path}, {"levels", json::array({entry})},
+                {"seconds", {{"fit", 0.25}, {"total", 0.25}}}};
+    fs::create_directories(dir);
+    quadcage::write_text_file(dir + "/report.json", report.dump(2));
+    return 0;
+}
+
+// A closed quad box of 1 x 1 x L cells: 4L + 2 faces, 4L + 4 vertices (L = 1: a cube, 8 vertices of
+// valence 3). Without `top`, one end face is missing (an open box).
+std::string quad_box(int L, bool top = true) {
+    std::string obj;
+    for (int k = 0; k <= L; ++k)
+        for (int i = 0; i < 4; ++i)
+            obj += "v " + std::to_string(i == 1 || i == 2) + " " + std::to_string(i >= 2) + " " + std::to_string(k) + "\n";
+    auto id = [](int k, int i) { return std::to_string(4 * k + (i % 4) + 1); };
+    obj += "f " + id(0, 0) + " " + id(0, 3) + " " + id(0, 2) + " " + id(0, 1) + "\n";  // bottom, facing -z
+    if (top) obj += "f " + id(L, 0) + " " + id(L, 1) + " " + id(L, 2) + " " + id(L, 3) + "\n";
+    for (int k = 0; k < L; ++k)
+        for (int i = 0; i < 4; ++i) obj += "f " + id(k, i) + " " + id(k, i + 1) + " " + id(k + 1, i + 1) + " " + id(k + 1, i) + "\n";
+    return obj;
+}
+
+// An n x n quad torus grid (genus 1).
+std::string quad_torus(int n) {
+    std::string obj;
+    for (int i = 0; i < n * n; ++i) obj += "v " + std::to_string(i / n) + " " + std::to_string(i % n) + " 0\n";
+    auto id = [n](int i, int j) { return std::to_string((i % n) * n + (j % n) + 1); };
+    for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j) obj += "f " + id(i, j) + " " + id(i + 1, j) + " " + id(i + 1, j + 1) + " " + id(i, j + 1) + "\n";
+    return obj;
+}
+
+// QuadriFlow's output: a box with about `faces` vertices (as many control points as a genus-1
+// remesh of that many faces), or what the mesh's name asks for.
+int quadriflow(const std::string& in, const std::string& out, int faces, int seed) {
+    // The input is DIR/meshes/<name>/peer/input.obj: the mesh's name is in the path.
+    auto named = [&in](const char* word) { return in.find(word) != std::string::npos; };
+    if (named("peerbroken")) {
         std::fprintf(stderr, "quadriflow: error: QuadriFlow failed: the mesh is unchanged\n");
         return 1;
     }
-    std::string obj;
-    for (int i = 0; i < 8; ++i) obj += "v " + std::to_string(i & 1) + " " + std::to_string((i >> 1) & 1) + " " + std::to_string(i >> 2) + "\n";
-    obj += "f 1 3 4 2\nf 5 6 8 7\nf 1 2 6 5\nf 3 7 8 4\nf 1 5 7 3\nf 2 4 8 6\n";
+    const int wanted = named("peerhalf") ? faces / 2 : faces;
+    const int L = named("peercoarse") ? 1 : std::max(1, static_cast<int>(std::lround((wanted - 4) / 4.0)));
+    std::string obj = quad_box(L);
+    if (seed == 0 && named("peergenus")) obj = quad_torus(4);
+    if (seed == 0 && named("peerempty")) obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+    if (seed == 0 && named("peeropen")) obj = quad_box(L, false);
     quadcage::write_text_file(out, obj);
-    quadcage::write_text_file(out + ".json", json{{"seconds", 0.5}, {"target_faces", faces}}.dump());
+    quadcage::write_text_file(out + ".json", json{{"seconds", 0.5}, {"target_faces", faces}, {"seed", seed}}.dump());
     return 0;
 }
 
@@ -143,8 +202,10 @@ int main(int argc, char** argv) {
     try {
         if (cmd == "info") return info(mesh);
         if (cmd == "layout") return layout(mesh, option(argc, argv, "-o"));
+        if (cmd == "fit" && !option(argc, argv, "--cage").empty()) return fit_cage(option(argc, argv, "--cage"), option(argc, argv, "-o"));
         if (cmd == "fit") return fit(mesh, option(argc, argv, "-o"), std::atoi(option(argc, argv, "--level").c_str()));
-        if (cmd == "quadriflow" && argc == 5) return quadriflow(mesh, argv[3], std::atoi(argv[4]));
+        if (cmd == "quadriflow" && (argc == 5 || argc == 6))
+            return quadriflow(mesh, argv[3], std::atoi(argv[4]), argc == 6 ? std::atoi(argv[5]) : 0);
     } catch (const std::exception& e) {
         std::fprintf(stderr, "fake: error: %s\n", e.what());
         return 1;

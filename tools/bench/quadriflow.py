@@ -1,12 +1,12 @@
 """Remesh a mesh with QuadriFlow inside Blender: the peer column of `quadcage bench`.
 
-    blender -b --factory-startup --python-exit-code 1 --python tools/bench/quadriflow.py -- IN.obj OUT.obj TARGET_FACES
+    blender -b --factory-startup --python-exit-code 1 --python tools/bench/quadriflow.py -- IN.obj OUT.obj TARGET_FACES [SEED]
 
-Imports IN (OBJ; PLY and STL are accepted too), runs bpy.ops.object.quadriflow_remesh(target_faces=N)
-(blocking when called from Python), exports the result as OBJ (polygons kept) to OUT and writes
-OUT.json with {"seconds": QuadriFlow's own time, "faces_in", "faces_out", "quads_out", "target_faces",
-"blender"}. Exits non-zero with one line on stderr when QuadriFlow fails (Blender then leaves the
-mesh unchanged, i.e. still triangles).
+Imports IN (OBJ; PLY and STL are accepted too), runs bpy.ops.object.quadriflow_remesh(target_faces=N,
+seed=SEED) (blocking when called from Python; SEED, QuadriFlow's random seed, defaults to 0), exports
+the result as OBJ (polygons kept) to OUT and writes OUT.json with {"seconds": QuadriFlow's own time,
+"faces_in", "faces_out", "quads_out", "target_faces", "seed", "blender"}. Exits non-zero with one line
+on stderr when QuadriFlow fails (Blender then leaves the mesh unchanged, i.e. still triangles).
 """
 import json
 import os
@@ -24,11 +24,14 @@ def fail(message):
 
 def main(argv):
     args = argv[argv.index("--") + 1:] if "--" in argv else []
-    if len(args) != 3:
-        fail("usage: blender -b --python quadriflow.py -- IN OUT TARGET_FACES")
+    if len(args) not in (3, 4):
+        fail("usage: blender -b --python quadriflow.py -- IN OUT TARGET_FACES [SEED]")
     src, dst, target = args[0], args[1], int(args[2])
+    seed = int(args[3]) if len(args) == 4 else 0
     if target < 1:
         fail("TARGET_FACES must be >= 1, got %d" % target)
+    if seed < 0:
+        fail("SEED must be >= 0, got %d" % seed)
 
     # The factory scene holds a cube, a camera and a light: remove them.
     for obj in list(bpy.data.objects):
@@ -53,7 +56,7 @@ def main(argv):
 
     start = time.perf_counter()
     bpy.ops.object.quadriflow_remesh(target_faces=target, use_mesh_symmetry=False, use_preserve_sharp=False,
-                                     use_preserve_boundary=False, smooth_normals=False, seed=0)
+                                     use_preserve_boundary=False, smooth_normals=False, seed=seed)
     seconds = time.perf_counter() - start
 
     obj = bpy.context.view_layer.objects.active
@@ -66,10 +69,10 @@ def main(argv):
                           export_materials=False, export_triangulated_mesh=False, apply_modifiers=False)
     with open(dst + ".json", "w") as f:
         json.dump({"seconds": seconds, "faces_in": faces_in, "faces_out": len(polys), "quads_out": quads,
-                   "target_faces": target, "blender": bpy.app.version_string}, f)
+                   "target_faces": target, "seed": seed, "blender": bpy.app.version_string}, f)
         f.write("\n")
-    print("quadriflow: %d faces in, %d faces out (%d quads) for target %d in %.3f s"
-          % (faces_in, len(polys), quads, target, seconds))
+    print("quadriflow: %d faces in, %d faces out (%d quads) for target %d, seed %d in %.3f s"
+          % (faces_in, len(polys), quads, target, seed, seconds))
 
 
 main(sys.argv)

@@ -15,7 +15,8 @@ namespace quadcage::bench {
 /// {exe} the quadcage executable, {mesh} the input mesh, {dir} the stage's output folder,
 /// {level} the subdivision level, {input} the render input, {png} the picture, {kind} the picture
 /// kind, {title} its title, {blender} the Blender executable, {script} the peer script,
-/// {out} the peer's output OBJ, {faces} the peer's target face count.
+/// {out} the peer's output OBJ, {faces} the peer's target face count, {seed} QuadriFlow's seed,
+/// {cage} the peer's remesh to fit.
 struct StageCommands {
     std::vector<std::string> info = {"{exe}", "info", "{mesh}", "--json"};
     std::vector<std::string> layout = {"{exe}", "layout", "{mesh}", "-o", "{dir}"};
@@ -24,7 +25,9 @@ struct StageCommands {
                                        "--title", "{title}", "-q"};
     std::vector<std::string> peer = {"{blender}", "-b", "--factory-startup", "-noaudio", "--python-exit-code", "1",
                                      "--python", "{script}",
-                                     "--", "{mesh}", "{out}", "{faces}"};
+                                     "--", "{mesh}", "{out}", "{faces}", "{seed}"};
+    /// Our fitter on the peer's remesh, its own vertices as the unknowns.
+    std::vector<std::string> peer_fit = {"{exe}", "fit", "{mesh}", "--cage", "{cage}", "--level", "0", "-o", "{dir}"};
 };
 
 /// Options for run_bench().
@@ -36,6 +39,7 @@ struct BenchOptions {
     double timeout_seconds = 1800;   ///< Wall-clock limit of every child process (> 0).
     bool pictures = true;            ///< Run the render stage after layout and after each fit.
     bool peer = true;                ///< Run the QuadriFlow peer when Blender is found.
+    int peer_attempts = 4;           ///< QuadriFlow calls per mesh and level at most (1..16).
     std::string executable;          ///< {exe}: the quadcage executable (required).
     std::string blender = "blender"; ///< {blender}: path or name on PATH; not found -> peer "not installed".
     std::string peer_script;         ///< {script}: tools/bench/quadriflow.py; required when the peer runs.
@@ -46,8 +50,21 @@ struct BenchOptions {
 };
 
 /// Runs every stage of every input (see the issue): info (exit 3 -> "rejected"), layout, the
-/// layout picture, fit at each level with its deviation picture, and the peer; a crash, timeout or
-/// error of one child is recorded and the run goes on. A failed layout skips that mesh's fits.
+/// layout picture, fit at each level with its deviation picture, and the peer at each level; a
+/// crash, timeout or error of one child is recorded and the run goes on. A failed layout skips that
+/// mesh's fits.
+///
+/// The peer at level K (issue #19): QuadriFlow remeshes the input at T = quads * 4^K faces, our
+/// level-K control-face count. A closed quad mesh has V = F + 2 - 2g vertices, so T is also our
+/// level-K control points + 2g - 2: the remesh's vertices, the unknowns of its level-0 fit, then
+/// match our control points (at level 0 too: 10g-10 quads, 8g-8 corners). A remesh that is a closed,
+/// manifold, consistently oriented quad mesh of the input's genus (peer_cage_problem()) with a vertex
+/// count within 10% of our control points is fitted by the `peer_fit` command. Otherwise QuadriFlow
+/// runs again, at most `peer_attempts` times in all: after a remesh whose count is off, at the
+/// target scaled by ours / its vertices; after an invalid one (or one the fit rejects), with seeds 1
+/// and 2, then at T +5%, -5%, +10%, -10% (seed 0). Every attempt is recorded with its reason. If no
+/// attempt matched the count, the valid remesh with the closest count is fitted (its ratios then do
+/// not count).
 /// Writes each child's stderr to DIR/meshes/<name>/log.txt, info's JSON to .../info.json; writes
 /// the plot (DIR/plot.png) but not the tables (see write_bench_tables()).
 /// \throw InvalidInput if the options are invalid or the output folder cannot be created.
