@@ -68,6 +68,18 @@ TEST(ControlMesh, TorusCageOffTheSurfaceAndRotatedFitsAtLevelTwo) {
     EXPECT_NEAR(m.relative.rms, r.levels[1].relative.rms, 0.2 * r.levels[1].relative.rms);
 }
 
+TEST(ControlMesh, TheFitDoesNotDependOnTheUnits) {
+    // The same torus and cage in units a million times smaller: the same relative errors (Ceres'
+    // absolute tolerances once ended such a fit before its first step).
+    Mesh mesh = shapes::torus(64, 32, 1.0, 0.35);
+    PolygonMesh cage = moved_torus_cage(1.0, 0.35, 0.1, 5.0);
+    const double at_one = fit_control_mesh(mesh, cage, fast_options(1)).levels.back().relative.rms;
+    for (Vec3& p : mesh.points) p *= 1e-6;
+    for (Vec3& p : cage.points) p *= 1e-6;
+    const double small = fit_control_mesh(mesh, cage, fast_options(1)).levels.back().relative.rms;
+    EXPECT_NEAR(small, at_one, 0.01 * at_one);
+}
+
 TEST(ControlMesh, LevelZeroFitsTheCagesOwnVerticesAndKeepsItsFaces) {
     const Mesh mesh = shapes::torus(64, 32, 1.0, 0.35);
     const PolygonMesh cage = polygons_of(test::torus_quads(8, 6, 1.0, 0.35));
