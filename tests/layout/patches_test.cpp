@@ -14,6 +14,15 @@
 namespace quadcage::layout::detail {
 namespace {
 
+// A genus-1 layout on `mesh` with nothing extracted yet.
+QuadLayout empty_layout(const Mesh& mesh) {
+    QuadLayout L;
+    L.mesh = mesh;
+    L.input_vertices = mesh.num_vertices();
+    L.genus = 1;
+    return L;
+}
+
 TEST(LayoutPatches, FaceComponentsCountTheCutsPieces) {
     const test::TorusNetwork t = test::torus_network(16, 8, {0, 8}, {0, 4});
     const Surface s(t.mesh);
@@ -32,10 +41,7 @@ TEST(LayoutPatches, FaceComponentsCountTheCutsPieces) {
 TEST(LayoutPatches, TorusGridGivesFourQuadsWithMapsInTheUnitSquare) {
     const test::TorusNetwork t = test::torus_network(16, 8, {0, 8}, {0, 4});
     const Surface s(t.mesh);
-    QuadLayout L;
-    L.mesh = t.mesh;
-    L.input_vertices = t.mesh.num_vertices();
-    L.genus = 1;
+    QuadLayout L = empty_layout(t.mesh);
     ASSERT_EQ(extract_cage(s, t.corners, t.paths, &L), "");
     EXPECT_EQ(L.cage.num_quads(), 4);
     EXPECT_EQ(L.cage.num_corners(), 4);
@@ -70,10 +76,7 @@ TEST(LayoutPatches, ANetworkWithAMissingEdgeIsNoQuadLayout) {
     test::TorusNetwork t = test::torus_network(16, 8, {0, 8}, {0, 4});
     t.paths.pop_back();  // two patches merge into a hexagon-like face
     const Surface s(t.mesh);
-    QuadLayout L;
-    L.mesh = t.mesh;
-    L.input_vertices = t.mesh.num_vertices();
-    L.genus = 1;
+    QuadLayout L = empty_layout(t.mesh);
     EXPECT_NE(extract_cage(s, t.corners, t.paths, &L), "");
 }
 
