@@ -34,4 +34,5 @@ install(FILES
     "${PROJECT_BINARY_DIR}/quadcageConfig.cmake"
     "${PROJECT_BINARY_DIR}/quadcageConfigVersion.cmake"
     "${PROJECT_SOURCE_DIR}/cmake/FindOpenSubdivDebian.cmake"
+    "${PROJECT_SOURCE_DIR}/cmake/CeresGenericBlas.cmake"
   DESTINATION "${QUADCAGE_INSTALL_CMAKEDIR}")
