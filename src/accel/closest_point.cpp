@@ -182,8 +182,9 @@ bool point_query_callback(RTCPointQueryFunctionArguments* args) {
 }
 
 /// The closest point of the mesh to p, given that it lies within `bound` of p (infinity: no bound).
-/// The bound only prunes the search: the answer is the same as without it.
-ClosestHit closest(const IndexData& im, const Vec3& p, double bound) {
+/// The bound only prunes the search: the answer is the same as without it. With `may_miss`, the
+/// bound is a limit instead: nothing within it gives a hit with triangle -1.
+ClosestHit closest(const IndexData& im, const Vec3& p, double bound, bool may_miss = false) {
     QueryState s;
     s.data = &im;
     s.p = p - im.centre;
@@ -208,9 +209,13 @@ ClosestHit closest(const IndexData& im, const Vec3& p, double bound) {
     } else {
         for (int t = 0; t < static_cast<int>(im.triangles.size()); ++t) offer_triangle(s, t);
     }
+    ClosestHit hit;
+    if (may_miss && (s.best_triangle < 0 || std::sqrt(s.best_d2) > bound)) {
+        hit.distance = std::numeric_limits<double>::infinity();
+        return hit;
+    }
     QC_CHECK(s.best_triangle >= 0, "Embree point query visited no triangle");
 
-    ClosestHit hit;
     hit.triangle = s.best_triangle;
     hit.point = s.best.point + im.centre;
     hit.barycentric = s.best.bary;
@@ -308,6 +313,25 @@ ClosestHit ClosestPointIndex::query(const Vec3& p) const {
 
 std::vector<ClosestHit> ClosestPointIndex::query_all(const std::vector<Vec3>& points,
                                                      int threads) const {
+    return query_points(points, nullptr, threads);
+}
+
+std::vector<ClosestHit> ClosestPointIndex::query_all_within(const std::vector<Vec3>& points,
+                                                            const std::vector<double>& max_distance,
+                                                            int threads) const {
+    if (max_distance.size() != points.size())
+        throw InvalidInput("closest-point query_all_within: " + std::to_string(points.size()) +
+                           " points but " + std::to_string(max_distance.size()) + " distances");
+    for (size_t i = 0; i < max_distance.size(); ++i)
+        if (!(max_distance[i] >= 0))
+            throw InvalidInput("closest-point query_all_within: distance " + std::to_string(i) +
+                               " is negative or NaN");
+    return query_points(points, &max_distance, threads);
+}
+
+std::vector<ClosestHit> ClosestPointIndex::query_points(const std::vector<Vec3>& points,
+                                                        const std::vector<double>* limits,
+                                                        int threads) const {
     QC_CHECK(impl_ != nullptr, "use of a moved-from ClosestPointIndex");
     if (threads < 0)
         throw InvalidInput("closest-point query_all: threads must be >= 0 (0 = all cores), got " +
@@ -358,8 +382,17 @@ std::vector<ClosestHit> ClosestPointIndex::query_all(const std::vector<Vec3>& po
                     const size_t i = order[k].second;
                     const double bound = prev ? norm(points[i] - *prev) + prev_distance
                                               : std::numeric_limits<double>::infinity();
-                    hits[i] = closest(im, points[i], bound);
-                    prev = &points[i];
+                    if (limits) {
+                        // The limit prunes too: a miss says nothing of the point's true distance,
+                        // so the next point starts without a bound from it.
+                        const double limit = (*limits)[i];
+                        hits[i] = limit < bound ? closest(im, points[i], limit, true) : closest(im, points[i], bound);
+                        if (hits[i].triangle >= 0 && hits[i].distance > limit) hits[i] = ClosestHit{-1, {}, {}, std::numeric_limits<double>::infinity()};
+                        prev = hits[i].triangle >= 0 ? &points[i] : nullptr;
+                    } else {
+                        hits[i] = closest(im, points[i], bound);
+                        prev = &points[i];
+                    }
                     prev_distance = hits[i].distance;
                 }
             }

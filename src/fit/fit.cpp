@@ -362,31 +362,35 @@ subdiv::LimitPoint limit_point(const subdiv::LimitSurface& surface, const subdiv
 /// side of a thin part, the fit pulls the surface there into a fin and never lets go. Returns the
 /// RMS distance of the data points to their new feet.
 double update_correspondences(const subdiv::LimitSurface& surface, std::vector<DataPoint>* data, int threads) {
-    std::vector<Vec3> points(data->size());
-    for (size_t i = 0; i < data->size(); ++i) points[i] = (*data)[i].p;
-    // 4 segments per face side: 32 triangles per face.
-    const detail::SurfaceProjector projector(surface, 4, threads);
-    const std::vector<accel::ClosestHit> seeds = projector.index().query_all(points, threads);
-    std::vector<double> d2(data->size());
-    parallel_for(static_cast<int>(data->size()), threads, [&](int i) {
+    const int n = static_cast<int>(data->size());
+    std::vector<Vec3> points(n);
+    for (int i = 0; i < n; ++i) points[i] = (*data)[i].p;
+    auto dist2 = [&](const subdiv::FacePoint& c, const Vec3& p) {
+        const Vec3 r = surface.evaluate(c).position - p;
+        return dot(r, r);
+    };
+    // The local walks first: their distances bound the global search.
+    std::vector<double> d2(n, std::numeric_limits<double>::infinity()), limit(n);
+    parallel_for(n, threads, [&](int i) {
         DataPoint& d = (*data)[i];
-        auto dist2 = [&](const subdiv::FacePoint& c) {
-            const Vec3 r = surface.evaluate(c).position - d.p;
-            return dot(r, r);
-        };
-        d2[i] = std::numeric_limits<double>::infinity();
         if (d.c.face >= 0) {
             d.c = surface.project(d.p, d.c);
-            d2[i] = dist2(d.c);
+            d2[i] = dist2(d.c, d.p);
         }
-        // A walk from the tessellation's closest point can only find a closer foot when that point
-        // is closer than the local foot (up to the tessellation's own error): skip it otherwise.
-        if (seeds[i].distance * seeds[i].distance < d2[i]) {
-            const subdiv::FacePoint global =
-                surface.project(d.p, projector.param_of(seeds[i].triangle, seeds[i].barycentric));
-            const double g2 = dist2(global);
-            if (g2 < d2[i]) d.c = global, d2[i] = g2;
-        }
+        limit[i] = std::sqrt(d2[i]);
+    });
+    // 4 segments per face side: 32 triangles per face. A walk from the tessellation's closest
+    // point can only find a closer foot when that point is closer than the local foot (up to the
+    // tessellation's own error), so the search only looks that far: most points are near their
+    // local foot, and the small sphere prunes most of the tessellation.
+    const detail::SurfaceProjector projector(surface, 4, threads);
+    const std::vector<accel::ClosestHit> seeds = projector.index().query_all_within(points, limit, threads);
+    parallel_for(n, threads, [&](int i) {
+        if (seeds[i].triangle < 0 || !(seeds[i].distance * seeds[i].distance < d2[i])) return;
+        DataPoint& d = (*data)[i];
+        const subdiv::FacePoint global = surface.project(d.p, projector.param_of(seeds[i].triangle, seeds[i].barycentric));
+        const double g2 = dist2(global, d.p);
+        if (g2 < d2[i]) d.c = global, d2[i] = g2;
     });
     double sum = 0;
     for (double x : d2) sum += x;

@@ -176,6 +176,46 @@ TEST(AccelClosestPoint, QueryAllEqualsSequentialQuery) {
     EXPECT_TRUE(index.query_all({}).empty());
 }
 
+TEST(AccelClosestPoint, QueryAllWithinAnswersExactlyTheHitsInsideTheLimit) {
+    const Mesh m = bumpy_sphere(20, 32, 1.0, 0.2);
+    const ClosestPointIndex index(m);
+    const std::vector<Vec3> pts = random_points(m, 4000, 0.4, 5);
+    const std::vector<ClosestHit> full = index.query_all(pts, 1);
+    // Limits around each true distance: a quarter of the points just below it (a miss), a quarter
+    // exactly at it, the rest above; and one of 0 for a point not on the surface.
+    std::mt19937 rng(6);
+    std::vector<double> limit(pts.size());
+    for (size_t i = 0; i < pts.size(); ++i) {
+        const double d = full[i].distance;
+        limit[i] = i % 4 == 0 ? d * 0.999 : i % 4 == 1 ? d : d * (1.0 + 0.01 * (rng() % 100));
+    }
+    int misses = 0;
+    for (int threads : {1, 2, 3}) {
+        const std::vector<ClosestHit> got = index.query_all_within(pts, limit, threads);
+        ASSERT_EQ(got.size(), pts.size());
+        misses = 0;
+        for (size_t i = 0; i < pts.size(); ++i) {
+            if (full[i].distance > limit[i]) {
+                EXPECT_EQ(got[i].triangle, -1) << "point " << i;
+                EXPECT_TRUE(std::isinf(got[i].distance));
+                ++misses;
+                continue;
+            }
+            EXPECT_EQ(got[i].triangle, full[i].triangle) << "point " << i << " threads " << threads;
+            EXPECT_EQ(got[i].point, full[i].point);
+            EXPECT_EQ(got[i].distance, full[i].distance);
+        }
+    }
+    EXPECT_EQ(misses, static_cast<int>((pts.size() + 3) / 4));
+    // Infinite limits are query_all().
+    const std::vector<ClosestHit> unbounded =
+        index.query_all_within(pts, std::vector<double>(pts.size(), std::numeric_limits<double>::infinity()));
+    for (size_t i = 0; i < pts.size(); ++i) EXPECT_EQ(unbounded[i].triangle, full[i].triangle);
+    EXPECT_THROW(index.query_all_within(pts, std::vector<double>(3, 1.0)), InvalidInput);
+    EXPECT_THROW(index.query_all_within({Vec3{}}, {-1.0}), InvalidInput);
+    EXPECT_THROW(index.query_all_within({Vec3{}}, {std::nan("")}), InvalidInput);
+}
+
 TEST(AccelClosestPoint, FarAwayPoints) {
     const Mesh m = bumpy_sphere(12, 20, 1.0, 0.15);
     const ClosestPointIndex index(m);

@@ -54,10 +54,24 @@ public:
     /// \throw InvalidInput if a point is not finite (naming its index) or threads < 0.
     std::vector<ClosestHit> query_all(const std::vector<Vec3>& points, int threads = 0) const;
 
+    /// query_all() within a limit per point: hits[i] is the closest point of the mesh to points[i]
+    /// if its distance is at most max_distance[i], else a hit with triangle -1 and an infinite
+    /// distance. A small limit prunes most of the BVH: a caller that only wants points closer than
+    /// a candidate it already has (a local projection) pays for little more than that check.
+    /// Deterministic, as query_all().
+    /// \throw InvalidInput if the sizes differ, a distance is negative or NaN, a point is not
+    ///        finite or threads < 0.
+    std::vector<ClosestHit> query_all_within(const std::vector<Vec3>& points,
+                                             const std::vector<double>& max_distance,
+                                             int threads = 0) const;
+
     /// Number of triangles indexed.
     int num_triangles() const;
 
 private:
+    std::vector<ClosestHit> query_points(const std::vector<Vec3>& points,
+                                         const std::vector<double>* limits, int threads) const;
+
     struct Impl;
     std::unique_ptr<Impl> impl_;
 };
