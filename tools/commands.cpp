@@ -346,6 +346,7 @@ fit::FitOptions fit_options_of(const FitCommandOptions& o) {
     } else {
         fit_options.level = o.level;
     }
+    fit_options.solver = o.solver == "ceres" ? fit::FitSolver::Ceres : fit::FitSolver::Direct;
     if (const std::string e = fit_options.validate(); !e.empty()) throw InvalidInput("fit: " + e);
     return fit_options;
 }

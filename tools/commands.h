@@ -38,6 +38,7 @@ struct FitCommandOptions {
     double tolerance = 0;     ///< --tolerance T: fit levels 0, 1, ... until the relative RMS <= T.
     int max_level = 5;        ///< --max-level with --tolerance.
     std::string cage;         ///< --cage CAGE: fit this control mesh instead of building a layout.
+    std::string solver = "direct";  ///< --solver: direct or ceres (fit::FitSolver).
     bool json = false;        ///< Print report.json instead of the summary.
     bool quiet = false;       ///< No progress on stderr.
 };

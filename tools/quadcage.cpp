@@ -78,6 +78,11 @@ int main(int argc, char** argv) {
         ->excludes(level_opt);
     fit_cmd->add_option("--max-level", fitopt.max_level, "Highest level tried with --tolerance (default 5)")
         ->check(CLI::Range(0, 7));
+    fit_cmd->add_option("--solver", fitopt.solver,
+                        "How each round's linear least-squares problem is solved: direct (default: the normal\n"
+                        "equations by CHOLMOD, analysed once per level) or ceres (one Levenberg-Marquardt step of\n"
+                        "Ceres per round; the same fit up to rounding, several times slower)")
+        ->check(CLI::IsMember({"direct", "ceres"}));
     fit_cmd->add_flag("--json", fitopt.json, "Print report.json instead of the summary");
 
     CLI::App* version_cmd = app.add_subcommand(

@@ -16,6 +16,7 @@
 #include "detail/control_mesh.h"
 #include "detail/costs.h"
 #include "detail/measure.h"
+#include "detail/normal_equations.h"
 #include "detail/patch_locator.h"
 #include "detail/sampling.h"
 #include "quadcage/accel/closest_point.h"
@@ -415,6 +416,16 @@ LevelReport fit_level(const Context& ctx, const LevelTopology& topo, subdiv::Lim
     const std::vector<Combo> laplacian = laplacian_rows(topo);
     const std::vector<subdiv::FacePoint> s_params = surface_samples(surface.num_faces(), o.surface_samples_per_face);
     const int nd = static_cast<int>(state.data.size()), ns = static_cast<int>(s_params.size());
+    // The surface samples keep their (face, u, v) all level: their stencils, once.
+    std::vector<subdiv::LimitStencil> surf_stencil(ns);
+    std::vector<Combo> surf_combo(ns);
+    parallel_for(ns, ctx.threads, [&](int i) {
+        surf_stencil[i] = surface.stencil(s_params[i]);
+        surf_combo[i] = topo.compose(surf_stencil[i].indices, surf_stencil[i].position_weights);
+    });
+    // Their closest input points of the previous round: the distance to the old closest point
+    // bounds the search for the new one.
+    std::vector<accel::ClosestHit> hits;
     // Ceres minimises 1/2 sum |r|^2: weight 1/N per data point, beta/N per surface sample on
     // average (each is weighted by its share of the surface area), lambda/N per control point, so
     // the terms' sizes do not depend on the sample counts.
@@ -427,6 +438,21 @@ LevelReport fit_level(const Context& ctx, const LevelTopology& topo, subdiv::Lim
     sec.evaluation += seconds_since(clock);
     LevelState best_state = state;
     rep.stop_reason = "max_iterations";
+    // FitSolver::Direct: the pattern of the normal equations, fixed for the level: one clique per
+    // face (the control points of its stencil, the same at every point of the face) and one per
+    // Laplacian row.
+    const int nf = surface.num_faces();
+    std::optional<detail::NormalEquations> normal;
+    if (o.solver == FitSolver::Direct) {
+        std::vector<std::vector<int>> cliques(nf + laplacian.size());
+        parallel_for(nf, ctx.threads, [&](int f) {
+            const subdiv::LimitStencil st = surface.stencil({f, 0.5, 0.5});
+            for (const auto& vw : topo.compose(st.indices, st.position_weights)) cliques[f].push_back(vw.first);
+        });
+        for (size_t k = 0; k < laplacian.size(); ++k)
+            for (const auto& vw : laplacian[k]) cliques[nf + k].push_back(vw.first);
+        normal.emplace(topo.num_vars, std::move(cliques));
+    }
     // Once the data RMS stalls, one last round with the final (smallest) smoothness weight, so an
     // early stop does not leave the surface biased by a large smoothness term.
     bool final_round = false;
@@ -444,7 +470,7 @@ LevelReport fit_level(const Context& ctx, const LevelTopology& topo, subdiv::Lim
         const double near2 = std::pow(kNearDistance * ctx.diagonal, 2);
         // Stencils of the data correspondences and of the surface samples.
         clock = Clock::now();
-        std::vector<Combo> data_combo(nd), surf_combo(ns);
+        std::vector<Combo> data_combo(nd);
         std::vector<Vec3> surf_pos(ns), data_pos(nd), data_normal(nd);
         std::vector<double> surf_weight(ns);
         parallel_for(nd, ctx.threads, [&](int i) {
@@ -459,9 +485,7 @@ LevelReport fit_level(const Context& ctx, const LevelTopology& topo, subdiv::Lim
             if (mu < 1 && dot(r, r) <= near2) data_normal[i] = e.normal;
         });
         parallel_for(ns, ctx.threads, [&](int i) {
-            const subdiv::LimitStencil s = surface.stencil(s_params[i]);
-            surf_combo[i] = topo.compose(s.indices, s.position_weights);
-            const subdiv::LimitPoint e = limit_point(surface, s);
+            const subdiv::LimitPoint e = limit_point(surface, surf_stencil[i]);
             surf_pos[i] = e.position;
             surf_weight[i] = norm(cross(e.du, e.dv));
         });
@@ -475,22 +499,23 @@ LevelReport fit_level(const Context& ctx, const LevelTopology& topo, subdiv::Lim
         sec.evaluation += seconds_since(clock);
 
         clock = Clock::now();
-        const std::vector<accel::ClosestHit> hits = ctx.index.query_all(surf_pos, ctx.threads);
+        if (hits.empty()) {
+            hits = ctx.index.query_all(surf_pos, ctx.threads);
+        } else {
+            // Within the distance to the old closest point (a point of the mesh), with a margin for
+            // rounding; a miss (rounding at the margin) is searched again without a limit.
+            std::vector<double> limit(ns);
+            for (int i = 0; i < ns; ++i) limit[i] = norm(surf_pos[i] - hits[i].point) * (1 + 1e-9) + 1e-12 * ctx.diagonal;
+            hits = ctx.index.query_all_within(surf_pos, limit, ctx.threads);
+            for (int i = 0; i < ns; ++i)
+                if (hits[i].triangle < 0) hits[i] = ctx.index.query(surf_pos[i]);
+        }
         sec.closest_points += seconds_since(clock);
 
         clock = Clock::now();
         std::vector<double> x(3 * static_cast<size_t>(topo.num_vars));
         for (int v = 0; v < topo.num_vars; ++v)
             for (int d = 0; d < 3; ++d) x[3 * v + d] = state.vars[v][d];
-        ceres::Problem problem;
-        for (int v = 0; v < topo.num_vars; ++v) problem.AddParameterBlock(&x[3 * v], 3);
-        std::vector<double*> blocks;
-        auto split = [&](const Combo& c, std::vector<double>* w) {
-            blocks.clear();
-            w->clear();
-            for (const auto& [v, weight] : c) blocks.push_back(&x[3 * v]), w->push_back(weight);
-        };
-        std::vector<double> w;
         // Data points and surface samples whose stencils use the same control points (those on
         // one control face) go into one residual block: Ceres then builds the structure of J^T J
         // from one product per face and pair of its control points, not one per point (that
@@ -535,79 +560,152 @@ LevelReport fit_level(const Context& ctx, const LevelTopology& topo, subdiv::Lim
             surf_rows[i] = scaled(detail::point_to_plane_rows(weights_of(surf_combo[i]), hits[i].point, n / len, 1.0),
                                   surf_pos[i], surf_weight[i]);
         });
-        // The stencils of all points on one face use the face's control points, in the same
-        // (sorted) order, so the group of a point is that of its face.
-        std::vector<int> group_of(surface.num_faces(), -1);
-        std::vector<std::vector<int>> group_vars;
-        std::vector<std::vector<detail::StencilRows>> groups;
-        auto add = [&](int face, const Combo& c, detail::StencilRows&& rows) {
-            int& g = group_of[face];
-            if (g < 0) {
-                g = static_cast<int>(groups.size());
-                group_vars.emplace_back();
-                for (const auto& vw : c) group_vars.back().push_back(vw.first);
-                groups.emplace_back();
+        if (o.solver == FitSolver::Direct) {
+            // The rows of each face's points, then the normal equations (design: normal_equations.h).
+            std::vector<std::vector<const detail::StencilRows*>> members(nf);
+            auto add_member = [&](int face, const Combo& c, const detail::StencilRows& rows) {
+                const std::vector<int>& vars = normal->clique(face);
+                QC_CHECK(vars.size() == c.size() && std::equal(vars.begin(), vars.end(), c.begin(),
+                                                                [](int v, const auto& vw) { return v == vw.first; }),
+                         "fit: a stencil on face " + std::to_string(face) + " uses other control points than the face");
+                members[face].push_back(&rows);
+            };
+            for (int i = 0; i < nd; ++i) add_member(state.data[i].c.face, data_combo[i], data_rows[i]);
+            for (int i = 0; i < static_cast<int>(surf_rows.size()); ++i)
+                if (!surf_rows[i].weights.empty()) add_member(s_params[i].face, surf_combo[i], surf_rows[i]);
+            const double lap2 = lambda > 0 ? lambda / laplacian.size() : 0.0;
+            const double t_rows = seconds_since(clock);
+            normal->assemble(
+                [&](int k, Eigen::MatrixXd& jtj, Eigen::VectorXd& jtb) {
+                    const std::vector<int>& vars = normal->clique(k);
+                    const int m = static_cast<int>(vars.size());
+                    if (k >= nf) {
+                        // lap2 |sum_a w_a x_a|^2 for each coordinate: blocks lap2 w_a w_b I.
+                        if (lap2 == 0) return;
+                        std::vector<double> w(m);
+                        for (const auto& [v, weight] : laplacian[k - nf])
+                            w[std::lower_bound(vars.begin(), vars.end(), v) - vars.begin()] = weight;
+                        for (int b = 0; b < m; ++b)
+                            for (int a = 0; a <= b; ++a)
+                                for (int d = 0; d < 3; ++d) jtj(3 * a + d, 3 * b + d) = lap2 * w[a] * w[b];
+                        return;
+                    }
+                    int rows = 0;
+                    for (const detail::StencilRows* r : members[k]) rows += r->rows;
+                    if (rows == 0) return;
+                    Eigen::MatrixXd j(rows, 3 * m);
+                    Eigen::VectorXd b(rows);
+                    int row = 0;
+                    for (const detail::StencilRows* r : members[k])
+                        for (int q = 0; q < r->rows; ++q, ++row) {
+                            for (int a = 0; a < m; ++a)
+                                for (int d = 0; d < 3; ++d) j(row, 3 * a + d) = r->weights[a] * r->a[3 * q + d];
+                            b(row) = r->b[q];
+                        }
+                    jtj.selfadjointView<Eigen::Upper>().rankUpdate(j.transpose());
+                    jtb.noalias() = j.transpose() * b;
+                },
+                ctx.threads);
+            // Ceres' Levenberg-Marquardt starts with the damping diag(J^T J) / 1e4; the same here,
+            // raised tenfold while the damped matrix is not positive definite.
+            const double t_asm = seconds_since(clock);
+            std::vector<double> next;
+            bool solved = false;
+            for (double damping = 1e-4; !solved && damping <= 1e2; damping *= 10) solved = normal->solve(x, damping, &next);
+            const double setup = seconds_since(clock);
+            ctx.progress(format("  normal equations: rows %.2f s, assembly %.2f s, total %.2f s", t_rows, t_asm, setup));
+            sec.solve += setup;
+            rep.iterations = round + 1;
+            rep.solver_iterations += 1;
+            if (!solved) {
+                rep.stop_reason = "solver failed: the normal equations are not positive definite";
+                break;
             }
-            const std::vector<int>& vars = group_vars[g];
-            QC_CHECK(vars.size() == c.size() && std::equal(vars.begin(), vars.end(), c.begin(),
-                                                            [](int v, const auto& vw) { return v == vw.first; }),
-                     "fit: two stencils on face " + std::to_string(face) + " use different control points");
-            groups[g].push_back(std::move(rows));
-        };
-        for (int i = 0; i < nd; ++i) add(state.data[i].c.face, data_combo[i], std::move(data_rows[i]));
-        for (int i = 0; i < static_cast<int>(surf_rows.size()); ++i)
-            if (!surf_rows[i].weights.empty()) add(s_params[i].face, surf_combo[i], std::move(surf_rows[i]));
-        // A group with more rows than unknowns (a coarse level's faces hold many points) goes in
-        // as its Cholesky-compressed equivalent: the same steps, fewer rows for Ceres to multiply.
-        std::vector<std::unique_ptr<ceres::CostFunction>> compressed(groups.size());
-        std::vector<int> tall;
-        for (size_t g = 0; g < groups.size(); ++g) {
-            int rows = 0;
-            for (const detail::StencilRows& r : groups[g]) rows += r.rows;
-            if (rows > 3 * static_cast<int>(group_vars[g].size())) tall.push_back(static_cast<int>(g));
-        }
-        parallel_for(static_cast<int>(tall.size()), ctx.threads,
-                     [&](int k) { compressed[tall[k]] = detail::compressed_group_cost(groups[tall[k]]); });
-        for (size_t g = 0; g < groups.size(); ++g) {
-            blocks.clear();
-            for (int v : group_vars[g]) blocks.push_back(&x[3 * v]);
-            problem.AddResidualBlock(compressed[g] ? compressed[g].release() : new detail::StencilGroupCost(std::move(groups[g])),
-                                     nullptr, blocks);
-        }
-        if (lambda > 0) {
-            const double scale = std::sqrt(lambda / laplacian.size());
-            for (const Combo& row : laplacian) {
-                split(row, &w);
-                problem.AddResidualBlock(detail::smoothness_cost(w, scale), nullptr, blocks);
+            x.swap(next);
+        } else {
+            ceres::Problem problem;
+            for (int v = 0; v < topo.num_vars; ++v) problem.AddParameterBlock(&x[3 * v], 3);
+            std::vector<double*> blocks;
+            auto split = [&](const Combo& c, std::vector<double>* w) {
+                blocks.clear();
+                w->clear();
+                for (const auto& [v, weight] : c) blocks.push_back(&x[3 * v]), w->push_back(weight);
+            };
+            std::vector<double> w;
+            // The stencils of all points on one face use the face's control points, in the same
+            // (sorted) order, so the group of a point is that of its face.
+            std::vector<int> group_of(surface.num_faces(), -1);
+            std::vector<std::vector<int>> group_vars;
+            std::vector<std::vector<detail::StencilRows>> groups;
+            auto add = [&](int face, const Combo& c, detail::StencilRows&& rows) {
+                int& g = group_of[face];
+                if (g < 0) {
+                    g = static_cast<int>(groups.size());
+                    group_vars.emplace_back();
+                    for (const auto& vw : c) group_vars.back().push_back(vw.first);
+                    groups.emplace_back();
+                }
+                const std::vector<int>& vars = group_vars[g];
+                QC_CHECK(vars.size() == c.size() && std::equal(vars.begin(), vars.end(), c.begin(),
+                                                                [](int v, const auto& vw) { return v == vw.first; }),
+                         "fit: two stencils on face " + std::to_string(face) + " use different control points");
+                groups[g].push_back(std::move(rows));
+            };
+            for (int i = 0; i < nd; ++i) add(state.data[i].c.face, data_combo[i], std::move(data_rows[i]));
+            for (int i = 0; i < static_cast<int>(surf_rows.size()); ++i)
+                if (!surf_rows[i].weights.empty()) add(s_params[i].face, surf_combo[i], std::move(surf_rows[i]));
+            // A group with more rows than unknowns (a coarse level's faces hold many points) goes in
+            // as its Cholesky-compressed equivalent: the same steps, fewer rows for Ceres to multiply.
+            std::vector<std::unique_ptr<ceres::CostFunction>> compressed(groups.size());
+            std::vector<int> tall;
+            for (size_t g = 0; g < groups.size(); ++g) {
+                int rows = 0;
+                for (const detail::StencilRows& r : groups[g]) rows += r.rows;
+                if (rows > 3 * static_cast<int>(group_vars[g].size())) tall.push_back(static_cast<int>(g));
             }
-        }
-        ceres::Solver::Options so;
-        // Dense only for a handful of variables: the dense path forms the full Jacobian (rows x 3n).
-        so.linear_solver_type = topo.num_vars <= 16 ? ceres::DENSE_NORMAL_CHOLESKY : ceres::SPARSE_NORMAL_CHOLESKY;
-        so.num_threads = ctx.threads;
-        so.max_num_iterations = o.solver_iterations;
-        // Ceres' gradient and parameter tolerances are absolute (or relative to |x| plus an absolute
-        // term): on a mesh a millionth of a unit across they declare convergence before the first
-        // step (eight at scale 1e-6 stopped at level 1 with relative RMS 3.2e-3 instead of 2.0e-3).
-        // The rounds decide when to stop (min_improvement), so the solver always takes its steps.
-        so.gradient_tolerance = 0;
-        so.parameter_tolerance = 0;
-        so.function_tolerance = 0;
-        so.logging_type = ceres::SILENT;
-        so.minimizer_progress_to_stdout = false;
-        ceres::Solver::Summary summary;
-        const double setup = seconds_since(clock);
-        ceres::Solve(so, &problem, &summary);
-        ctx.progress(format("  ceres: set-up %.2f s, preprocess %.2f s, jacobians %.2f s", setup,
-                            summary.preprocessor_time_in_seconds, summary.jacobian_evaluation_time_in_seconds) +
-                     format(", linear solver %.2f s, total %.2f s", summary.linear_solver_time_in_seconds,
-                            summary.total_time_in_seconds));
-        sec.solve += seconds_since(clock);
-        rep.iterations = round + 1;
-        rep.solver_iterations += summary.num_successful_steps + summary.num_unsuccessful_steps;
-        if (!summary.IsSolutionUsable()) {
-            rep.stop_reason = "solver failed: " + summary.message;
-            break;
+            parallel_for(static_cast<int>(tall.size()), ctx.threads,
+                         [&](int k) { compressed[tall[k]] = detail::compressed_group_cost(groups[tall[k]]); });
+            for (size_t g = 0; g < groups.size(); ++g) {
+                blocks.clear();
+                for (int v : group_vars[g]) blocks.push_back(&x[3 * v]);
+                problem.AddResidualBlock(compressed[g] ? compressed[g].release() : new detail::StencilGroupCost(std::move(groups[g])),
+                                         nullptr, blocks);
+            }
+            if (lambda > 0) {
+                const double scale = std::sqrt(lambda / laplacian.size());
+                for (const Combo& row : laplacian) {
+                    split(row, &w);
+                    problem.AddResidualBlock(detail::smoothness_cost(w, scale), nullptr, blocks);
+                }
+            }
+            ceres::Solver::Options so;
+            // Dense only for a handful of variables: the dense path forms the full Jacobian (rows x 3n).
+            so.linear_solver_type = topo.num_vars <= 16 ? ceres::DENSE_NORMAL_CHOLESKY : ceres::SPARSE_NORMAL_CHOLESKY;
+            so.num_threads = ctx.threads;
+            so.max_num_iterations = o.solver_iterations;
+            // Ceres' gradient and parameter tolerances are absolute (or relative to |x| plus an absolute
+            // term): on a mesh a millionth of a unit across they declare convergence before the first
+            // step (eight at scale 1e-6 stopped at level 1 with relative RMS 3.2e-3 instead of 2.0e-3).
+            // The rounds decide when to stop (min_improvement), so the solver always takes its steps.
+            so.gradient_tolerance = 0;
+            so.parameter_tolerance = 0;
+            so.function_tolerance = 0;
+            so.logging_type = ceres::SILENT;
+            so.minimizer_progress_to_stdout = false;
+            ceres::Solver::Summary summary;
+            const double setup = seconds_since(clock);
+            ceres::Solve(so, &problem, &summary);
+            ctx.progress(format("  ceres: set-up %.2f s, preprocess %.2f s, jacobians %.2f s", setup,
+                                summary.preprocessor_time_in_seconds, summary.jacobian_evaluation_time_in_seconds) +
+                         format(", linear solver %.2f s, total %.2f s", summary.linear_solver_time_in_seconds,
+                                summary.total_time_in_seconds));
+            sec.solve += seconds_since(clock);
+            rep.iterations = round + 1;
+            rep.solver_iterations += summary.num_successful_steps + summary.num_unsuccessful_steps;
+            if (!summary.IsSolutionUsable()) {
+                rep.stop_reason = "solver failed: " + summary.message;
+                break;
+            }
         }
         for (int v = 0; v < topo.num_vars; ++v) state.vars[v] = {x[3 * v], x[3 * v + 1], x[3 * v + 2]};
 

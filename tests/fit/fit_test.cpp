@@ -178,6 +178,32 @@ TEST(FitSurface, DeterministicAndIndependentOfTheThreadCount) {
         EXPECT_LT(norm(a.surface.control_mesh().points[i] - c.surface.control_mesh().points[i]), 1e-9);
 }
 
+TEST(FitSurface, TheDirectSolverEndsWhereCeresEnds) {
+    // Both take one damped Gauss-Newton step per round; the direct solver factorises the normal
+    // equations itself, with the analysis kept for the level. Rounding apart, the fits agree.
+    const layout::QuadLayout layout = test::torus_layout(32, 16);
+    FitOptions o = fast_options();
+    o.level = 3;
+    o.solver = FitSolver::Direct;
+    const FitResult direct = fit_surface(layout, o);
+    o.solver = FitSolver::Ceres;
+    const FitResult ceres = fit_surface(layout, o);
+    ASSERT_EQ(direct.levels.size(), ceres.levels.size());
+    for (size_t k = 0; k < direct.levels.size(); ++k) {
+        const LevelReport &a = direct.levels[k], &b = ceres.levels[k];
+        std::cout << "  direct " << describe(a) << "\n  ceres  " << describe(b) << "\n";
+        EXPECT_EQ(a.iterations, b.iterations);
+        EXPECT_NEAR(a.relative.rms, b.relative.rms, 0.01 * b.relative.rms);
+        EXPECT_NEAR(a.relative.hausdorff, b.relative.hausdorff, 0.02 * b.relative.hausdorff);
+    }
+    const auto& pa = direct.surface.control_mesh().points;
+    const auto& pb = ceres.surface.control_mesh().points;
+    ASSERT_EQ(pa.size(), pb.size());
+    double worst = 0;
+    for (size_t i = 0; i < pa.size(); ++i) worst = std::max(worst, norm(pa[i] - pb[i]));
+    EXPECT_LT(worst, 1e-3 * direct.levels.back().diagonal);
+}
+
 TEST(FitSurface, FittedSurfaceEvaluatesOnCageCoordinates) {
     const layout::QuadLayout layout = test::cube_sphere_layout(8);
     const FitResult r = fit_level(layout, 2);

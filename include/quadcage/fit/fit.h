@@ -28,6 +28,15 @@ enum class FitMode {
                 ///< a level's RMS is worse than the one before's (from level 2: from both starts).
 };
 
+/// How a round's linear least-squares problem (feet fixed) is solved. Both take the same damped
+/// Gauss-Newton (Levenberg-Marquardt) step; they differ in rounding only.
+enum class FitSolver {
+    Direct,  ///< The normal equations factorised by CHOLMOD (supernodal), the symbolic analysis
+             ///< done once per level and reused by every round. One step per round.
+    Ceres,   ///< ceres::Solve on a new problem each round (FitOptions::solver_iterations steps),
+             ///< preprocessing and analysis redone every round. The reference; several times slower.
+};
+
 /// Options for fit_surface(). Distances are relative to the bounding-box diagonal of the mesh.
 struct FitOptions {
     FitMode mode = FitMode::Level;  ///< Level: fit `level`; Tolerance: fit until `tolerance` is met.
@@ -36,7 +45,8 @@ struct FitOptions {
                                ///< of LevelReport::within_tolerance. > 0.
     int max_level = 5;         ///< Tolerance mode: highest level tried, 0..kMaxFitLevel.
     int outer_iterations = 8;  ///< Solve / correspondence-update rounds per level, >= 1.
-    int solver_iterations = 1;  ///< Ceres (Levenberg-Marquardt) steps per solve, >= 1. With the feet fixed
+    FitSolver solver = FitSolver::Direct;  ///< How each round is solved.
+    int solver_iterations = 1;  ///< FitSolver::Ceres: Levenberg-Marquardt steps per solve, >= 1. With the feet fixed
                                 ///< the residuals are linear in the control points (up to the Huber
                                 ///< loss), so one step solves a round; the rounds re-linearise.
     double min_improvement = 2e-3;  ///< Stop a level when a round improves the data RMS by less than
@@ -110,7 +120,7 @@ struct LevelReport {
     double diagonal = 0;          ///< Bounding-box diagonal of the mesh.
     double within_tolerance = 0;  ///< Share of input samples within FitOptions::tolerance (relative).
     int iterations = 0;           ///< Solve / correspondence rounds run.
-    int solver_iterations = 0;    ///< Ceres steps (accepted or not) summed over the rounds.
+    int solver_iterations = 0;    ///< Solver steps (accepted or not) summed over the rounds.
     std::string stop_reason;      ///< Why the rounds stopped.
     StageSeconds seconds;
     double unfitted_relative_rms = -1;        ///< With FitOptions::measure_unfitted, else -1.

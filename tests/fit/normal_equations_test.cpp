@@ -1,0 +1,143 @@
+// The normal-equation solver of the fit's rounds (src/fit/detail/normal_equations.h) against a
+// dense least-squares solve of the same problem.
+
+#include "detail/normal_equations.h"
+
+#include <Eigen/Dense>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <random>
+#include <vector>
+
+namespace quadcage::fit::detail {
+namespace {
+
+// A random sparse least-squares problem: groups over random cliques of 3-vector variables (some
+// cliques repeat variables of others, as neighbouring faces share control points), each with its
+// own dense rows J_k (rows x 3m) and right-hand side b_k.
+struct Problem {
+    int num_vars;
+    std::vector<std::vector<int>> cliques;
+    std::vector<Eigen::MatrixXd> j;
+    std::vector<Eigen::VectorXd> b;
+};
+
+Problem random_problem(int num_vars, int groups, unsigned seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> uni(-1.0, 1.0);
+    Problem p{num_vars, {}, {}, {}};
+    for (int g = 0; g < groups; ++g) {
+        // A window of neighbouring variables, so the pattern is banded like a surface's.
+        const int m = 2 + static_cast<int>(rng() % 5);
+        const int start = static_cast<int>(rng() % (num_vars - m + 1));
+        std::vector<int> c;
+        for (int k = 0; k < m; ++k) c.push_back(start + k);
+        std::shuffle(c.begin(), c.end(), rng);
+        std::sort(c.begin(), c.end());
+        const int rows = 3 * m + static_cast<int>(rng() % 4);
+        Eigen::MatrixXd jk(rows, 3 * m);
+        Eigen::VectorXd bk(rows);
+        for (int r = 0; r < rows; ++r) {
+            for (int q = 0; q < 3 * m; ++q) jk(r, q) = uni(rng);
+            bk(r) = uni(rng);
+        }
+        p.cliques.push_back(c);
+        p.j.push_back(jk);
+        p.b.push_back(bk);
+    }
+    // Every variable in some group: one group per variable window of 2 at the end.
+    for (int v = 0; v + 1 < num_vars; v += 2) {
+        p.cliques.push_back({v, v + 1});
+        p.j.push_back(Eigen::MatrixXd::Identity(6, 6));
+        p.b.push_back(Eigen::VectorXd::Constant(6, 0.5));
+    }
+    return p;
+}
+
+NormalEquations::GroupNormal group_normal(const Problem& p) {
+    return [&p](int k, Eigen::MatrixXd& jtj, Eigen::VectorXd& jtb) {
+        jtj.selfadjointView<Eigen::Upper>().rankUpdate(p.j[k].transpose());
+        jtb = p.j[k].transpose() * p.b[k];
+    };
+}
+
+// The dense minimiser of sum |J_k x_k - b_k|^2 (+ damping |D^(1/2) (x - x0)|^2, D = diag(J^T J)).
+Eigen::VectorXd dense_solution(const Problem& p, const Eigen::VectorXd& x0, double damping) {
+    const int n3 = 3 * p.num_vars;
+    Eigen::MatrixXd h = Eigen::MatrixXd::Zero(n3, n3);
+    Eigen::VectorXd g = Eigen::VectorXd::Zero(n3);
+    for (size_t k = 0; k < p.cliques.size(); ++k) {
+        const auto& c = p.cliques[k];
+        Eigen::MatrixXd full = Eigen::MatrixXd::Zero(p.j[k].rows(), n3);
+        for (size_t a = 0; a < c.size(); ++a) full.middleCols(3 * c[a], 3) = p.j[k].middleCols(3 * a, 3);
+        h += full.transpose() * full;
+        g += full.transpose() * p.b[k];
+    }
+    Eigen::MatrixXd damped = h;
+    damped.diagonal() += damping * h.diagonal();
+    return x0 + damped.ldlt().solve(g - h * x0);
+}
+
+TEST(NormalEquations, MatchesADenseLeastSquaresSolve) {
+    const Problem p = random_problem(40, 60, 1);
+    NormalEquations eq(p.num_vars, p.cliques);
+    eq.assemble(group_normal(p), 2);
+    std::mt19937 rng(2);
+    std::uniform_real_distribution<double> uni(-1.0, 1.0);
+    std::vector<double> x0(3 * p.num_vars);
+    for (double& v : x0) v = uni(rng);
+    const Eigen::VectorXd x0v = Eigen::Map<const Eigen::VectorXd>(x0.data(), x0.size());
+    for (double damping : {0.0, 1e-4, 1.0}) {
+        std::vector<double> x;
+        ASSERT_TRUE(eq.solve(x0, damping, &x));
+        const Eigen::VectorXd expected = dense_solution(p, x0v, damping);
+        ASSERT_EQ(x.size(), static_cast<size_t>(expected.size()));
+        for (size_t i = 0; i < x.size(); ++i) EXPECT_NEAR(x[i], expected[i], 1e-9 * (1 + std::abs(expected[i]))) << i;
+    }
+}
+
+TEST(NormalEquations, RoundsReuseThePatternWithNewValues) {
+    // The same pattern, other values: the second assembly replaces the first (the analysis is reused).
+    Problem p = random_problem(30, 40, 3);
+    NormalEquations eq(p.num_vars, p.cliques);
+    std::vector<double> x0(3 * p.num_vars, 0.0), x;
+    eq.assemble(group_normal(p), 1);
+    ASSERT_TRUE(eq.solve(x0, 0.0, &x));
+    for (auto& jk : p.j) jk *= 2.0;
+    for (auto& bk : p.b) bk *= 3.0;
+    eq.assemble(group_normal(p), 1);
+    ASSERT_TRUE(eq.solve(x0, 0.0, &x));
+    const Eigen::VectorXd expected = dense_solution(p, Eigen::VectorXd::Zero(x0.size()), 0.0);
+    for (size_t i = 0; i < x.size(); ++i) EXPECT_NEAR(x[i], expected[i], 1e-9 * (1 + std::abs(expected[i])));
+}
+
+TEST(NormalEquations, TheResultDoesNotDependOnTheThreadCount) {
+    const Problem p = random_problem(200, 400, 4);
+    std::vector<double> x0(3 * p.num_vars, 0.25);
+    std::vector<std::vector<double>> out;
+    for (int threads : {1, 2, 3, 8}) {
+        NormalEquations eq(p.num_vars, p.cliques);
+        eq.assemble(group_normal(p), threads);
+        out.emplace_back();
+        ASSERT_TRUE(eq.solve(x0, 1e-4, &out.back()));
+    }
+    for (size_t k = 1; k < out.size(); ++k) EXPECT_EQ(out[k], out[0]);
+}
+
+TEST(NormalEquations, ASingularSystemIsReportedNotSolved) {
+    // Variable 2 appears in a clique whose rows never touch it: H has a zero 3 x 3 block there.
+    Problem p{3, {{0, 1}, {1, 2}}, {}, {}};
+    p.j.push_back(Eigen::MatrixXd::Identity(6, 6));
+    Eigen::MatrixXd j2 = Eigen::MatrixXd::Zero(3, 6);
+    j2.leftCols(3) = Eigen::Matrix3d::Identity();
+    p.j.push_back(j2);
+    p.b = {Eigen::VectorXd::Ones(6), Eigen::VectorXd::Ones(3)};
+    NormalEquations eq(p.num_vars, p.cliques);
+    eq.assemble(group_normal(p), 1);
+    std::vector<double> x;
+    EXPECT_FALSE(eq.solve(std::vector<double>(9, 0.0), 1e-4, &x));
+}
+
+}  // namespace
+}  // namespace quadcage::fit::detail
