@@ -5,7 +5,9 @@
 # (/usr/bin/time), and which BLAS libblas.so.3 resolves to (CHOLMOD's dense kernels run on it).
 # Targets on the 2-core machine: botijo fit <= 7 s; 1.3M fit <= 15 s with the command <= 2 GiB.
 # Run it on an otherwise idle machine: timings on 2 cores shift by 10% or more with other load.
-#   tools/bench/fit_speed.sh [BUILD_DIR] [--no-large]
+# With --ceres, botijo is fitted a second time with --solver ceres (the rounds through ceres::Solve),
+# to show what the direct solver changes; its fit must end at the same errors up to rounding.
+#   tools/bench/fit_speed.sh [BUILD_DIR] [--no-large] [--ceres]
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 build=${1:-build}
@@ -17,16 +19,28 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 echo "libblas.so.3 -> $(readlink -f /usr/lib/x86_64-linux-gnu/libblas.so.3 2>/dev/null || echo '?')"
 echo "load average before: $(cut -d' ' -f1-3 /proc/loadavg)"
+large=1 ceres=0
+for arg in "${@:2}"; do
+  case "$arg" in
+    --no-large) large=0 ;;
+    --ceres) ceres=1 ;;
+    *) echo "unknown option: $arg" >&2; exit 2 ;;
+  esac
+done
 inputs=("$meshes/botijo.off")
-if [ "${2:-}" != "--no-large" ]; then
+solvers=(direct)
+[ "$ceres" = 1 ] && inputs+=("$meshes/botijo.off") && solvers+=(ceres)
+if [ "$large" = 1 ]; then
   "$qc" subdivide "$meshes/botijo.off" -t 2 -o "$work/botijo_x16.ply" >/dev/null
   inputs+=("$work/botijo_x16.ply")
+  solvers+=(direct)
 fi
-for m in "${inputs[@]}"; do
-  out="$work/$(basename "$m").out"
-  /usr/bin/time -f "%e %M" -o "$work/time.txt" "$qc" fit "$m" --level 3 -q -o "$out" >/dev/null
+for k in "${!inputs[@]}"; do
+  m=${inputs[$k]} solver=${solvers[$k]}
+  out="$work/$(basename "$m").$solver.out"
+  /usr/bin/time -f "%e %M" -o "$work/time.txt" "$qc" fit "$m" --level 3 --solver "$solver" -q -o "$out" >/dev/null
   read -r wall kib <"$work/time.txt"
-  python3 - "$out/report.json" "$(basename "$m")" "$wall" "$kib" <<'PY'
+  python3 - "$out/report.json" "$(basename "$m") (--solver $solver)" "$wall" "$kib" <<'PY'
 import json, sys
 r = json.load(open(sys.argv[1]))
 s = r['seconds']
