@@ -59,7 +59,7 @@ LayoutReport layout_report(const QuadLayout& layout);
 struct MeshLayoutReport {
     std::string input;                      ///< The mesh file as the user named it.
     std::vector<LayoutReport> components;   ///< One per component, in order (with run fields).
-    double seconds = 0;                     ///< Wall-clock seconds of the whole run.
+    double seconds = 0;                     ///< Wall-clock seconds of build_mesh_layout() (all components).
     double peak_memory_mib = 0;             ///< Peak resident memory of the process, MiB.
 
     /// Pretty-printed JSON as LayoutReport::to_json(): command, input, components (count), quads,
