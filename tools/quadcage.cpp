@@ -178,6 +178,9 @@ int main(int argc, char** argv) {
     } catch (const std::bad_alloc&) {
         std::fprintf(stderr, "quadcage: internal error: out of memory\n");
         return kInternalError;
+    } catch (const quadcage::ResourceError& e) {  // the system's, not the input's nor a bug
+        std::fprintf(stderr, "quadcage: error: %s\n", e.what());
+        return kInternalError;
     } catch (const std::exception& e) {
         std::fprintf(stderr, "quadcage: internal error: %s\n", e.what());
         return kInternalError;

@@ -8,7 +8,6 @@
 #include <cstdint>
 #include <exception>
 #include <limits>
-#include <stdexcept>
 #include <thread>
 #include <utility>
 
@@ -106,10 +105,27 @@ TrianglePoint closest_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, c
     return {a * u + b * v + c * w, {u, v, w}};
 }
 
+const char* embree_error_name(RTCError code) {
+    switch (code) {
+        case RTC_ERROR_NONE: return "no error code";
+        case RTC_ERROR_UNKNOWN: return "unknown error";
+        case RTC_ERROR_INVALID_ARGUMENT: return "invalid argument";
+        case RTC_ERROR_INVALID_OPERATION: return "invalid operation";
+        case RTC_ERROR_OUT_OF_MEMORY: return "out of memory";
+        case RTC_ERROR_UNSUPPORTED_CPU: return "unsupported CPU";
+        case RTC_ERROR_CANCELLED: return "cancelled";
+    }
+    return "unrecognised error";
+}
+
+// Embree's failures leave the library as its own type: invalid arguments and operations are ours
+// to prevent (a bug), anything else is the system's (memory, CPU).
 [[noreturn]] void throw_embree_error(RTCDevice device, const char* what) {
     const RTCError code = rtcGetDeviceError(device);
-    throw std::runtime_error(std::string("Embree: ") + what + " failed (error code " +
-                             std::to_string(static_cast<int>(code)) + ")");
+    const std::string message = std::string("Embree: ") + what + " failed: " + embree_error_name(code) +
+                                " (error code " + std::to_string(static_cast<int>(code)) + ")";
+    if (code == RTC_ERROR_INVALID_ARGUMENT || code == RTC_ERROR_INVALID_OPERATION) throw InternalError(message);
+    throw ResourceError(message);
 }
 
 void check_embree(RTCDevice device, const char* what) {

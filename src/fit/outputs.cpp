@@ -7,11 +7,13 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "common/json_text.h"
 #include "detail/sampling.h"
 #include "quadcage/accel/closest_point.h"
 #include "quadcage/core/errors.h"
 #include "quadcage/core/io.h"
 #include "quadcage/core/parallel.h"
+#include "report_json.h"
 
 namespace quadcage::fit {
 
@@ -19,15 +21,6 @@ namespace {
 
 namespace fs = std::filesystem;
 using Json = nlohmann::ordered_json;
-
-Json stats_json(const DistanceStats& s) { return Json{{"rms", s.rms}, {"mean", s.mean}, {"max", s.max}}; }
-
-Json error_json(const FitError& e) {
-    return Json{{"input_to_surface", stats_json(e.input_to_surface)},
-                {"surface_to_input", stats_json(e.surface_to_input)},
-                {"rms", e.rms},
-                {"hausdorff", e.hausdorff}};
-}
 
 long long max_segments(const FittedSurface& surface, long long max_triangles) {
     const long long faces = surface.limit().num_faces();
@@ -132,54 +125,33 @@ void write_deviation_ply(const std::string& path, const Mesh& input, const Fitte
     write_ply(path, input, extras);
 }
 
-std::string fit_report_json(const FitResult& result, const FitOptions& options, const TessellationChoice* tessellation) {
-    Json report;
-    report["mode"] = options.mode == FitMode::Level ? "level" : "tolerance";
-    if (options.mode == FitMode::Level) report["requested_level"] = options.level;
-    else report["max_level"] = options.max_level;
-    report["tolerance"] = options.tolerance;
-    report["tolerance_met"] = result.tolerance_met;
-    report["level"] = result.levels.empty() ? -1 : result.levels.back().level;
-    report["message"] = result.message;
-    report["diagonal"] = result.levels.empty() ? 0.0 : result.levels.back().diagonal;
-    auto level_json = [](const LevelReport& l) {
-        Json j;
-        j["level"] = l.level;
-        j["control_points"] = l.control_points;
-        j["absolute"] = error_json(l.absolute);
-        j["relative"] = error_json(l.relative);
-        j["within_tolerance"] = l.within_tolerance;
-        j["iterations"] = l.iterations;
-        j["solver_iterations"] = l.solver_iterations;
-        j["stop_reason"] = l.stop_reason;
-        j["seconds"] = Json{{"parameterization", l.seconds.parameterization},
-                            {"evaluation", l.seconds.evaluation},
-                            {"closest_points", l.seconds.closest_points},
-                            {"solve", l.seconds.solve},
-                            {"total", l.seconds.total}};
-        if (l.unfitted_relative_rms >= 0)
-            j["unfitted_relative"] = Json{{"rms", l.unfitted_relative_rms}, {"hausdorff", l.unfitted_relative_hausdorff}};
-        return j;
-    };
-    Json levels = Json::array();
-    for (const LevelReport& l : result.levels) levels.push_back(level_json(l));
-    report["levels"] = levels;
-    if (result.rejected_level) report["rejected_level"] = level_json(*result.rejected_level);
+FitReport fit_report(const FitResult& result, const FitOptions& options, const TessellationChoice* tessellation) {
+    FitReport r;
+    r.mode = options.mode;
+    r.requested_level = options.level;
+    r.max_level = options.max_level;
+    r.tolerance = options.tolerance;
+    r.tolerance_met = result.tolerance_met;
+    r.level = result.levels.empty() ? -1 : result.levels.back().level;
+    r.message = result.message;
+    r.diagonal = result.levels.empty() ? 0.0 : result.levels.back().diagonal;
+    r.levels = result.levels;
+    r.rejected_level = result.rejected_level;
     if (!result.surface.empty())
-        report["fitted_cage"] = Json{{"vertices", result.surface.control_mesh().num_vertices()},
-                                     {"quads", result.surface.control_mesh().num_quads()}};
-    if (tessellation)
-        report["limit_tessellation"] = Json{{"segments_per_face", tessellation->segments},
-                                            {"triangles", tessellation->triangles},
-                                            {"rms_error", tessellation->rms_error},
-                                            {"max_error", tessellation->max_error},
-                                            {"target", tessellation->target},
-                                            {"met", tessellation->met}};
-    return report.dump(2) + "\n";
+        r.fitted_cage = FitReport::ControlMesh{result.surface.control_mesh().num_vertices(),
+                                               result.surface.control_mesh().num_quads()};
+    if (tessellation) r.limit_tessellation = *tessellation;
+    return r;
 }
 
-FitOutputs write_fit_outputs(const std::string& dir, const Mesh& input, const FitResult& result,
-                             const FitOptions& options, const LimitPlyOptions& ply_options) {
+std::string FitReport::to_json() const {
+    Json report;
+    detail::put_fit_report(*this, report);
+    return quadcage::detail::report_text(report, 2);
+}
+
+FitOutputs write_fit_files(const std::string& dir, const Mesh& input, const FitResult& result,
+                           const LimitPlyOptions& ply_options) {
     if (result.surface.empty() || result.levels.empty()) throw InvalidInput("write_fit_outputs: the fit result is empty");
     std::error_code ec;
     fs::create_directories(dir, ec);
@@ -187,7 +159,7 @@ FitOutputs write_fit_outputs(const std::string& dir, const Mesh& input, const Fi
     FitOutputs out;
     const fs::path base(dir);
     const std::string cage = (base / "fitted_cage.obj").string(), limit = (base / "limit.ply").string();
-    const std::string deviation = (base / "deviation.ply").string(), report = (base / "report.json").string();
+    const std::string deviation = (base / "deviation.ply").string();
     if (result.fitted_cage.faces.empty()) write_quad_obj(cage, result.surface.control_mesh());
     else write_polygon_obj(cage, result.fitted_cage);
     out.files.push_back(cage);
@@ -196,7 +168,14 @@ FitOutputs write_fit_outputs(const std::string& dir, const Mesh& input, const Fi
     out.files.push_back(limit);
     write_deviation_ply(deviation, input, result.surface, ply_options.threads);
     out.files.push_back(deviation);
-    write_text_file(report, fit_report_json(result, options, &out.tessellation));
+    return out;
+}
+
+FitOutputs write_fit_outputs(const std::string& dir, const Mesh& input, const FitResult& result,
+                             const FitOptions& options, const LimitPlyOptions& ply_options) {
+    FitOutputs out = write_fit_files(dir, input, result, ply_options);
+    const std::string report = (fs::path(dir) / "report.json").string();
+    write_text_file(report, fit_report(result, options, &out.tessellation).to_json());
     out.files.push_back(report);
     return out;
 }

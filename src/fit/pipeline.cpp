@@ -1,3 +1,5 @@
+#include <chrono>
+
 #include "quadcage/core/errors.h"
 #include "quadcage/fit/fit.h"
 
@@ -6,9 +8,14 @@ namespace quadcage::fit {
 CageFit fit_cage(const Mesh& mesh, const layout::QuadLayoutOptions& layout_options,
                  const FitOptions& fit_options) {
     if (const std::string e = fit_options.validate(); !e.empty()) throw InvalidInput("fit options: " + e);
+    using Clock = std::chrono::steady_clock;
     CageFit out;
+    const Clock::time_point t0 = Clock::now();
     out.layout = layout::build_quad_layout(mesh, layout_options);
+    const Clock::time_point t1 = Clock::now();
     out.fit = fit_surface(out.layout, fit_options);
+    out.layout_seconds = std::chrono::duration<double>(t1 - t0).count();
+    out.fit_seconds = std::chrono::duration<double>(Clock::now() - t1).count();
     return out;
 }
 

@@ -150,7 +150,7 @@ TEST(FitSurface, ToleranceModeReportsAnUnreachableTolerance) {
     EXPECT_FALSE(r.tolerance_met);
     for (size_t i = 1; i < r.levels.size(); ++i) EXPECT_LE(r.levels[i].relative.rms, r.levels[i - 1].relative.rms);
     EXPECT_EQ(r.surface.level(), r.levels.back().level);
-    const auto report = nlohmann::json::parse(fit_report_json(r, o));
+    const auto report = nlohmann::json::parse(fit_report(r, o).to_json());
     if (r.rejected_level) {
         EXPECT_EQ(r.rejected_level->level, r.levels.back().level + 1);
         EXPECT_GT(r.rejected_level->relative.rms, r.levels.back().relative.rms);
@@ -386,7 +386,7 @@ TEST(FitOutputs, QuadObjAndReportWithoutTessellation) {
     o.tolerance = 0.5;  // level 0 already meets it
     const FitResult r = fit_surface(layout, o);
     ASSERT_TRUE(r.tolerance_met);
-    const auto report = nlohmann::json::parse(fit_report_json(r, o));
+    const auto report = nlohmann::json::parse(fit_report(r, o).to_json());
     EXPECT_EQ(report["mode"], "tolerance");
     EXPECT_EQ(report["tolerance_met"], true);
     EXPECT_EQ(report["level"], 0);

@@ -36,7 +36,8 @@ public:
     /// \pre Triangle indices are valid and the points finite (checked: throws InvalidInput otherwise).
     /// \throw InvalidInput if the mesh has no triangles, a vertex index is out of range or a used
     ///        point is not finite.
-    /// \throw std::runtime_error if Embree fails (device creation, out of memory).
+    /// \throw ResourceError if Embree fails for want of memory or a usable device (naming the call);
+    ///        InternalError if Embree rejects a call as an invalid argument or operation (a bug).
     explicit ClosestPointIndex(const Mesh& mesh);
     ~ClosestPointIndex();
     ClosestPointIndex(ClosestPointIndex&& other) noexcept;
@@ -77,7 +78,7 @@ private:
 };
 
 /// Version of the Embree library linked at run time, e.g. "Embree 3.13.5" (creates a device to ask).
-/// \throw std::runtime_error if no Embree device can be created.
+/// \throw ResourceError if no Embree device can be created.
 std::string embree_version();
 
 }  // namespace quadcage::accel

@@ -21,6 +21,15 @@ public:
     using InvalidInput::InvalidInput;
 };
 
+/// A resource the library needs could not be had from the system or a library it runs on: memory,
+/// a device or a build of a backend (e.g. Embree could not create its device or build its BVH). Not
+/// a problem of the input nor a bug in quadcage; retrying with more memory may help. The message
+/// names the backend and the call that failed. The CLI maps it to exit code 1.
+class ResourceError : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
 /// A broken internal invariant (a bug in quadcage, not in the input). The CLI maps it to exit code 1.
 class InternalError : public std::logic_error {
 public:

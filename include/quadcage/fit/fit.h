@@ -284,11 +284,14 @@ namespace quadcage::fit {
 struct CageFit {
     layout::QuadLayout layout;  ///< The minimal quad layout (its cage is the level-0 control cage).
     FitResult fit;              ///< The fitted surface (evaluate it with fit.surface) and its report.
+    double layout_seconds = 0;  ///< Wall-clock seconds of build_quad_layout().
+    double fit_seconds = 0;     ///< Wall-clock seconds of fit_surface().
 };
 
 /// Mesh in, layout + fitted cage + report out: build_quad_layout() then fit_surface(). With default
 /// options but for fit_options.level, this is what `quadcage fit MESH --level K` computes for each
-/// component. Deterministic as both stages are. Coordinates and absolute errors are in the mesh's units.
+/// component (fit::fit_mesh() in quadcage/fit/mesh_fit.h calls it on every component of a mesh;
+/// fit::fit_report() and layout::layout_report() make its reports). Deterministic as both stages are. Coordinates and absolute errors are in the mesh's units.
 /// \pre mesh is one closed, connected, orientable manifold component, oriented outward
 ///      (core::prepare_for_quadding() splits and orients a general mesh).
 /// \throw InvalidInput if the mesh or the options are invalid.

@@ -2,6 +2,7 @@
 // The files of `quadcage fit`: fitted_cage.obj, limit.ply, deviation.ply, report.json (issue #5).
 // Every writer is atomic (temporary file + rename) and independent of the CLI.
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -62,14 +63,43 @@ void write_limit_ply(const std::string& path, const Mesh& input, const FittedSur
 /// \throw InvalidInput if the file cannot be written.
 void write_deviation_ply(const std::string& path, const Mesh& input, const FittedSurface& surface, int threads = 0);
 
-/// report.json (issue #5): mode, tolerance, message, and per level {level, control_points,
-/// absolute: {input_to_surface: {rms, mean, max}, surface_to_input: {...}, rms, hausdorff},
-/// relative: {same}, within_tolerance, iterations, solver_iterations, stop_reason,
-/// seconds: {parameterization, evaluation, closest_points, solve, total}} (+ unfitted figures when
-/// measured), `rejected_level` (same shape) if the tolerance search stopped at a level that did not
-/// improve, and the limit tessellation if given.
-std::string fit_report_json(const FitResult& result, const FitOptions& options,
-                            const TessellationChoice* tessellation = nullptr);
+/// The report of a fit (report.json of write_fit_outputs(); `quadcage fit` adds its run fields
+/// beside these, see fit/mesh_fit.h). Distances in LevelReport as there: absolute in the mesh's
+/// units, relative to the bounding-box diagonal.
+struct FitReport {
+    FitMode mode = FitMode::Level;   ///< FitOptions::mode.
+    int requested_level = 0;         ///< FitOptions::level (Level mode).
+    int max_level = 0;               ///< FitOptions::max_level (Tolerance mode).
+    double tolerance = 0;            ///< FitOptions::tolerance.
+    bool tolerance_met = false;      ///< FitResult::tolerance_met.
+    int level = -1;                  ///< The last level fitted; -1 if none.
+    std::string message;             ///< FitResult::message.
+    double diagonal = 0;             ///< Bounding-box diagonal of the mesh (0 if no level was fitted).
+    std::vector<LevelReport> levels; ///< FitResult::levels.
+    std::optional<LevelReport> rejected_level;  ///< FitResult::rejected_level.
+    /// Size of the fitted control mesh (FittedSurface::control_mesh()); unset if the surface is empty.
+    struct ControlMesh {
+        int vertices = 0;
+        int quads = 0;
+    };
+    std::optional<ControlMesh> fitted_cage;
+    std::optional<TessellationChoice> limit_tessellation;  ///< The tessellation of limit.ply, once written.
+
+    /// The report as pretty-printed JSON (2-space indent, keys in this order, a final newline):
+    /// mode, requested_level (Level mode) or max_level, tolerance, tolerance_met, level, message,
+    /// diagonal, levels [{level, control_points, absolute: {input_to_surface: {rms, mean, max},
+    /// surface_to_input: {...}, rms, hausdorff}, relative: {same}, within_tolerance, iterations,
+    /// solver_iterations, stop_reason, seconds: {parameterization, evaluation, closest_points,
+    /// solve, total}, unfitted_relative: {rms, hausdorff} when measured}], rejected_level (same
+    /// shape) if set, fitted_cage {vertices, quads} if set, limit_tessellation {segments_per_face,
+    /// triangles, rms_error, max_error, target, met} if set. Deterministic: equal reports give
+    /// equal text.
+    /// \throw InternalError if a number is not finite (it would be written as null).
+    std::string to_json() const;
+};
+
+/// The report of `result`, fitted with `options`; `tessellation` (may be null) is limit.ply's.
+FitReport fit_report(const FitResult& result, const FitOptions& options, const TessellationChoice* tessellation = nullptr);
 
 /// What write_fit_outputs() wrote.
 struct FitOutputs {
@@ -77,8 +107,17 @@ struct FitOutputs {
     std::vector<std::string> files;  ///< Paths written, in order.
 };
 
+/// Writes fitted_cage.obj (result.fitted_cage if set, else the fitted control mesh), limit.ply
+/// (choose_tessellation() for the last level's absolute RMS) and deviation.ply into `dir` (created
+/// if missing): write_fit_outputs() without report.json, for callers that write their own report
+/// (write_mesh_fit_outputs()).
+/// `input` is the mesh the user gave (deviation.ply carries its vertices).
+/// \throw InvalidInput if the directory or a file cannot be written, or the result is empty.
+FitOutputs write_fit_files(const std::string& dir, const Mesh& input, const FitResult& result,
+                           const LimitPlyOptions& ply_options = {});
+
 /// Writes fitted_cage.obj (result.fitted_cage if set, else the fitted control mesh), limit.ply,
-/// deviation.ply and report.json into `dir` (created if missing).
+/// deviation.ply and report.json (fit_report() with the tessellation) into `dir` (created if missing).
 /// `input` is the mesh the user gave (deviation.ply carries its vertices; the fit itself was done
 /// on the layout's copy of the same surface).
 /// \throw InvalidInput if the directory or a file cannot be written, or the result is empty.
