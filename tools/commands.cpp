@@ -1,5 +1,7 @@
 #include "commands.h"
 
+#include "cad_stage.h"
+
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -365,16 +367,32 @@ void print_fit_summary(const std::string& tag, const fit::FitResult& fit, const 
 
 // The end of `fit`: the top report of several components, the outputs moved in at once, the JSON
 // asked for.
-int finish_fit(const FitCommandOptions& o, const Progress& progress, OutputDir& out, json& top, const json& parts) {
+int finish_fit(const FitCommandOptions& o, const Progress& progress, OutputDir& out, json& top, const json& parts,
+               CadStage* cad) {
     if (parts.size() > 1) {
         top["component_reports"] = parts;
         top["peak_memory_mib"] = peak_memory_mib();
         write_text_file(out.path("report.json"), report_text(top, 2));
     }
     out.commit();
+    if (cad) cad->commit();
     if (o.json) std::cout << (parts.size() == 1 ? parts[0] : top).dump(2) << "\n";
     progress.say("wrote " + o.output_dir);
     return kOk;
+}
+
+// The STEP/IGES files of `fit --step/--iges`: one component only (checked before any work).
+std::unique_ptr<CadStage> fit_cad_stage(const FitCommandOptions& o, OutputDir& out, size_t components,
+                                        const std::vector<std::string>& inputs) {
+    CadFileOptions files;
+    files.step = o.step;
+    files.iges = o.iges;
+    files.tolerance = o.cad_tolerance;
+    if (!files.any()) return nullptr;
+    if (components != 1)
+        throw InvalidInput(o.mesh + ": has " + std::to_string(components) +
+                           " components; --step/--iges export one solid: fit, then `quadcage export DIR/component_<i>`");
+    return std::make_unique<CadStage>(files, &out, o.output_dir, inputs);
 }
 
 // `fit MESH --cage CAGE`: the user's control mesh, matched to MESH's components, fitted to each.
@@ -397,6 +415,7 @@ int run_fit_cage(const FitCommandOptions& o) {
         throw InvalidInput(o.cage + ": " + e.what() + " (" + o.mesh + ")");
     }
     out.expect(output_names(nc, {"fitted_cage.obj", "limit.ply", "deviation.ply", "report.json"}), {o.mesh, o.cage});
+    const std::unique_ptr<CadStage> cad = fit_cad_stage(o, out, nc, {o.mesh, o.cage});
     struct Pending {
         fit::FitResult fit;
         double seconds = 0;
@@ -420,6 +439,8 @@ int run_fit_cage(const FitCommandOptions& o) {
     for (size_t c = 0; c < nc; ++c) {
         const Pending& p = pending[c];
         const std::string dir = component_dir(c, nc), tag = component_tag(c, nc);
+        json cad_report;
+        if (cad) cad_report = cad->write(p.fit.surface, p.fit.levels.back().diagonal, progress.callback(tag));
         progress.say(tag + "writing the fitted surface");
         const fit::FitOutputs written = fit::write_fit_outputs(out.folder(dir), prepared.components[c], p.fit, fit_options);
         json report = json::parse(fit::fit_report_json(p.fit, fit_options, &written.tessellation));
@@ -430,6 +451,7 @@ int run_fit_cage(const FitCommandOptions& o) {
         report["components"] = nc;
         report["control_mesh"] = {{"faces", pieces[c].num_faces()}, {"vertices", pieces[c].num_vertices()}};
         report["seconds"] = {{"fit", p.seconds}, {"total", p.seconds}};
+        if (cad) report["cad"] = cad_report;
         report["peak_memory_mib"] = peak_memory_mib();
         write_text_file(out.path(output_path(dir, "report.json")), report_text(report, 2));
         parts.push_back(report);
@@ -437,8 +459,9 @@ int run_fit_cage(const FitCommandOptions& o) {
         std::printf("%scontrol mesh of %d faces, %d vertices, fit %.2f s\n", tag.c_str(), pieces[c].num_faces(),
                     pieces[c].num_vertices(), p.seconds);
         print_fit_summary(tag, p.fit, fit_options, written);
+        if (cad) print_cad_summary(tag + "  ", cad_report);
     }
-    return finish_fit(o, progress, out, top, parts);
+    return finish_fit(o, progress, out, top, parts, cad.get());
 }
 
 }  // namespace
@@ -457,6 +480,7 @@ int run_fit(const FitCommandOptions& o) {
         for (const char* f : {"fitted_cage.obj", "limit.ply", "deviation.ply"}) files.push_back(f);
         out.expect(output_names(nc, files), {o.mesh});
     }
+    const std::unique_ptr<CadStage> cad = fit_cad_stage(o, out, nc, {o.mesh});
     struct Pending {
         LayoutFiles layout;
         fit::FitResult fit;
@@ -486,8 +510,10 @@ int run_fit(const FitCommandOptions& o) {
     json parts = json::array();
     for (size_t c = 0; c < pending.size(); ++c) {
         Pending& p = pending[c];
-        write_layout_files(out, p.layout);
         const std::string tag = component_tag(c, nc);
+        json cad_report;
+        if (cad) cad_report = cad->write(p.fit.surface, p.fit.levels.back().diagonal, progress.callback(tag));
+        write_layout_files(out, p.layout);
         progress.say(tag + "writing the fitted surface");
         const fit::FitOutputs written = fit::write_fit_outputs(out.folder(p.layout.dir), *p.mesh, p.fit, fit_options);
         // report.json: the fit's report, with the layout's beside it.
@@ -500,6 +526,7 @@ int run_fit(const FitCommandOptions& o) {
         report["quads"] = p.layout.report["quads"];
         report["layout"] = p.layout.report;
         report["seconds"] = {{"layout", p.layout_seconds}, {"fit", p.fit_seconds}, {"total", p.layout_seconds + p.fit_seconds}};
+        if (cad) report["cad"] = cad_report;
         report["peak_memory_mib"] = peak_memory_mib();
         write_text_file(out.path(output_path(p.layout.dir, "report.json")), report_text(report, 2));
         parts.push_back(report);
@@ -507,8 +534,9 @@ int run_fit(const FitCommandOptions& o) {
         std::printf("%sgenus %d: %d-quad cage, layout %.2f s, fit %.2f s\n", tag.c_str(), p.layout.report["genus"].get<int>(),
                     p.layout.report["quads"].get<int>(), p.layout_seconds, p.fit_seconds);
         print_fit_summary(tag, p.fit, fit_options, written);
+        if (cad) print_cad_summary(tag + "  ", cad_report);
     }
-    return finish_fit(o, progress, out, top, parts);  // a tolerance not met is reported, not an error
+    return finish_fit(o, progress, out, top, parts, cad.get());  // a tolerance not met is reported, not an error
 }
 
 int run_cycles(const CyclesOptions& o) {

@@ -167,7 +167,9 @@ std::string fit_report_json(const FitResult& result, const FitOptions& options, 
     if (result.rejected_level) report["rejected_level"] = level_json(*result.rejected_level);
     if (!result.surface.empty())
         report["fitted_cage"] = Json{{"vertices", result.surface.control_mesh().num_vertices()},
-                                     {"quads", result.surface.control_mesh().num_quads()}};
+                                     {"quads", result.surface.control_mesh().num_quads()},
+                                     {"level0_faces", result.surface.cage_faces()}};
+    report["irregular_level"] = options.irregular_level;
     if (tessellation)
         report["limit_tessellation"] = Json{{"segments_per_face", tessellation->segments},
                                             {"triangles", tessellation->triangles},
