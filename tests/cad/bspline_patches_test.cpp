@@ -7,6 +7,8 @@
 #include "quadcage/core/errors.h"
 #include "quadcage/subdiv/cage.h"
 #include "quadcage/subdiv/catmull_clark.h"
+#include "quadcage/core/shapes.h"
+#include "quadcage/subdiv/limit_surface.h"
 #include "support/quad_shapes.h"
 
 namespace quadcage::fit {
@@ -83,6 +85,27 @@ TEST(BSplinePatches, ValenceFiveCornersMeetTheTolerance) {
     expect_sound(p, "icosahedron quads level 1");
     EXPECT_EQ(p.patches.size(), 60u);
     EXPECT_EQ(p.edges.size(), 120u);
+}
+
+// A cage with triangles (the icosahedron as a user's cage): one patch per quad of the cage refined
+// once, whose corners (valence 5 and the valence-3 face points) may all be extraordinary.
+FittedSurface triangle_cage_surface(int level) {
+    const Mesh ico = shapes::icosphere(0, 1.0);
+    PolygonMesh cage;
+    cage.points = ico.points;
+    for (const Triangle& t : ico.triangles) cage.faces.push_back({t[0], t[1], t[2]});
+    const subdiv::QuadMesh level1 = subdiv::refine_polygon_cage(cage).level1;
+    auto limit = std::make_shared<const subdiv::LimitSurface>(subdiv::refine_uniform(level1, std::max(level, 1) - 1));
+    return FittedSurface(limit, level, 20, level1.num_quads());
+}
+
+TEST(BSplinePatches, CageWithTrianglesGetsOnePatchPerQuadOfItsRefinement) {
+    for (int level : {1, 2}) {
+        const BSplinePatches p = bspline_patches(triangle_cage_surface(level));
+        expect_sound(p, "icosahedron triangles level " + std::to_string(level));
+        EXPECT_EQ(p.patches.size(), 60u);
+        EXPECT_EQ(p.edges.size(), 120u);
+    }
 }
 
 TEST(BSplinePatches, TighterToleranceRefinesDeeperOrSaysItCannot) {
