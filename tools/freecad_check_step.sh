@@ -8,5 +8,7 @@ if [ $# -lt 1 ]; then echo "usage: $0 FILE [FACES [VOLUME]]" >&2; exit 2; fi
 command -v freecadcmd >/dev/null || { echo "freecad_check: freecadcmd not found (apt-get install freecad)" >&2; exit 2; }
 here="$(cd "$(dirname "$0")" && pwd)"
 out="$(QC_CAD_FILE="$(realpath "$1")" QC_FACES="${2:-}" QC_VOLUME="${3:-}" freecadcmd "$here/freecad_check_step.py" 2>&1)"
-echo "$out" | grep -E '^\{|^freecad_check:' || { echo "$out" >&2; exit 1; }
-echo "$out" | grep -q '^freecad_check: PASS' 
+# FreeCAD's progress output shares lines with ours: pick the JSON object and the verdict out of it.
+echo "$out" | grep -oE '\{"file".*\}' || { echo "$out" >&2; exit 1; }
+echo "$out" | grep -oE 'freecad_check: .*'
+echo "$out" | grep -q 'freecad_check: PASS'
