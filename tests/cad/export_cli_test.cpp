@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <system_error>
 
 #include "quadcage/cad/cad_export.h"
 #include "quadcage/core/io.h"
@@ -20,14 +21,25 @@ using test::shell_quoted;
 const std::string kCli = QUADCAGE_CLI;
 const std::string kEight = std::string(QUADCAGE_DATA_DIR) + "/eight.off";
 
+// Removes the shared scratch directory when the test program ends.
+struct RemoveAtExit {
+    fs::path dir;
+    ~RemoveAtExit() {
+        std::error_code ec;
+        fs::remove_all(dir, ec);
+    }
+};
+
 // One level-1 fit of eight for every test here (the fit is not what they test).
 const fs::path& eight_fit() {
+    static const RemoveAtExit cleanup{fs::temp_directory_path() / ("qc_export_cli_" + std::to_string(::getpid()))};
     static const fs::path dir = [] {
         const fs::path d = fs::temp_directory_path() / ("qc_export_cli_" + std::to_string(::getpid()));
         fs::remove_all(d);
         std::string log;
+        fs::create_directories(d);
         const int code = run_logged(kCli + " fit " + shell_quoted(kEight) + " --level 1 -q -o " + shell_quoted(d / "fit"),
-                                    d.parent_path() / ("qc_export_cli_fit_" + std::to_string(::getpid()) + ".log"), &log);
+                                    d / "fit.log", &log);
         EXPECT_EQ(code, 0) << log;
         return d;
     }();
