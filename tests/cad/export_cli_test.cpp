@@ -9,6 +9,7 @@
 
 #include "quadcage/cad/cad_export.h"
 #include "quadcage/core/io.h"
+#include "quadcage/core/shapes.h"
 #include "support/files.h"
 
 namespace quadcage::cad {
@@ -82,6 +83,32 @@ TEST(ExportCli, BadInputExitsThreeWithOneLineAndWritesNothing) {
     EXPECT_NE(log.find("fitted_cage.obj: 4 vertices, but"), std::string::npos) << log;
     EXPECT_FALSE(fs::exists(base / "mixed" / "surface.step"));
     EXPECT_FALSE(fs::exists(base / "mixed" / "export.json"));
+}
+
+// What `fit --cage CAGE --level 0` writes for a cage of triangles (the icosahedron): fitted_cage.obj
+// holds CAGE's own faces, and the export has one face per quad of CAGE refined once.
+TEST(ExportCli, CageFitWithTrianglesExportsOneFacePerQuadOfItsRefinement) {
+    const fs::path dir = eight_fit() / "ico_cage";
+    fs::create_directories(dir);
+    const Mesh ico = shapes::icosphere(0, 1.0);
+    std::string obj = "# icosahedron\n";
+    for (const Vec3& p : ico.points) obj += "v " + std::to_string(p.x) + " " + std::to_string(p.y) + " " + std::to_string(p.z) + "\n";
+    for (const Triangle& t : ico.triangles)
+        obj += "f " + std::to_string(t[0] + 1) + " " + std::to_string(t[1] + 1) + " " + std::to_string(t[2] + 1) + "\n";
+    write_text_file((dir / "fitted_cage.obj").string(), obj);
+    const nlohmann::json report = {{"command", "fit"},      {"cage", "ico.obj"}, {"level", 0}, {"diagonal", 2.0},
+                                   {"control_mesh", {{"faces", 20}, {"vertices", 12}}},
+                                   {"fitted_cage", {{"vertices", 12 + 30 + 20}, {"quads", 60}, {"level0_faces", 20}}}};
+    write_text_file((dir / "report.json").string(), report.dump(2));
+    std::string log;
+    ASSERT_EQ(run_logged(kCli + " export -q " + shell_quoted(dir) + " --iges " + shell_quoted(dir / "ico.igs"), dir / "x.log", &log), 0)
+        << log;
+    EXPECT_NE(log.find("valid closed solid, 60 faces"), std::string::npos) << log;
+    const ReadBack back = read_back((dir / "ico.igs").string());
+    EXPECT_EQ(back.faces, 60);
+    EXPECT_TRUE(back.closed);
+    EXPECT_TRUE(back.valid);
+    EXPECT_FALSE(fs::exists(dir / "surface.step"));  // only the file asked for
 }
 
 TEST(ExportCli, ToleranceBelowTheFloorIsAUsageErrorAndAnUnreachableOneExitsThree) {
