@@ -146,6 +146,7 @@ std::string SolidReport::to_json(int indent) const {
     j["max_deviation_corner"] = max_deviation_corner;
     j["max_normal_jump_deg"] = {{"regular", max_normal_jump_regular_deg}, {"corner", max_normal_jump_corner_deg}};
     j["seconds"] = seconds;
+    j["stage_seconds"] = {{"sewing", sewing_seconds}, {"check", check_seconds}, {"properties", properties_seconds}};
     j["message"] = message;
     return j.dump(indent);
 }
@@ -199,6 +200,7 @@ Solid make_solid(const fit::BSplinePatches& patches, const SolidOptions& options
                 result = solid;
             }
         }
+        r.sewing_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         const Topology t = topology(result);
         r.solids = t.solids;
         r.faces = t.faces;
@@ -206,9 +208,13 @@ Solid make_solid(const fit::BSplinePatches& patches, const SolidOptions& options
         r.vertices = t.vertices;
         r.free_edges = t.free_edges;
         r.closed = t.solids == 1 && t.free_edges == 0 && t.faces > 0;
+        const auto t1 = std::chrono::steady_clock::now();
         r.valid = BRepCheck_Analyzer(result).IsValid();
+        const auto t2 = std::chrono::steady_clock::now();
+        r.check_seconds = std::chrono::duration<double>(t2 - t1).count();
         r.max_tolerance = std::max(BRep_Tool::MaxTolerance(result, TopAbs_EDGE), BRep_Tool::MaxTolerance(result, TopAbs_VERTEX));
         mass_properties(result, r.area, r.volume);
+        r.properties_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t2).count();
         out.impl_->shape = result;
     } catch (const Standard_Failure& e) {
         throw InvalidInput(std::string("make_solid: OpenCASCADE failed: ") + e.GetMessageString());

@@ -41,7 +41,10 @@ struct SolidReport {
     double max_normal_jump_regular_deg = 0;  ///< Across patch sides away from extraordinary corners.
     double max_normal_jump_corner_deg = 0;   ///< Across patch sides along corner cells.
     double diagonal = 0;          ///< The length relative figures use.
-    double seconds = 0;           ///< Building the solid (not the patches).
+    double seconds = 0;           ///< Building the solid (not the patches), of which:
+    double sewing_seconds = 0;    ///< ... faces and sewing,
+    double check_seconds = 0;     ///< ... BRepCheck_Analyzer,
+    double properties_seconds = 0;  ///< ... area and volume.
     std::string message;          ///< One line.
     /// The report as a JSON object (relative figures divided by `diagonal` included).
     std::string to_json(int indent = 2) const;
