@@ -4,10 +4,9 @@
 
 #include <functional>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "quadcage/core/output_dir.h"
 #include "quadcage/fit/fit.h"
@@ -16,9 +15,9 @@ namespace quadcage::cli {
 
 /// What to write and how exactly.
 struct CadFileOptions {
-    std::string step;          ///< STEP file to write ("" none).
-    std::string iges;          ///< IGES file to write ("" none).
-    double tolerance = 1e-5;   ///< Max deviation from the limit surface, relative to the diagonal.
+    std::string step;         ///< STEP file to write ("" none).
+    std::string iges;         ///< IGES file to write ("" none).
+    double tolerance = 1e-5;  ///< Max deviation from the limit surface, relative to the diagonal.
     bool any() const { return !step.empty() || !iges.empty(); }
 };
 

@@ -33,14 +33,12 @@
 #include <TopoDS_Face.hxx>
 #include <TopoDS_Shell.hxx>
 #include <TopoDS_Solid.hxx>
-
-#include <nlohmann/json.hpp>
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <mutex>
+#include <nlohmann/json.hpp>
 
 #include "quadcage/core/errors.h"
 
@@ -70,7 +68,8 @@ void init_occt() {
 std::string extension(const std::string& path) {
     const size_t dot = path.find_last_of('.');
     std::string e = dot == std::string::npos ? "" : path.substr(dot + 1);
-    std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    std::transform(e.begin(), e.end(), e.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
     return e;
 }
 
@@ -115,7 +114,8 @@ void mass_properties(const TopoDS_Shape& shape, double& area, double& volume) {
 }  // namespace
 
 std::string SolidOptions::validate() const {
-    if (!(sewing_tolerance >= 0) || !std::isfinite(sewing_tolerance)) return "sewing_tolerance must be finite and >= 0";
+    if (!(sewing_tolerance >= 0) || !std::isfinite(sewing_tolerance))
+        return "sewing_tolerance must be finite and >= 0";
     return {};
 }
 
@@ -130,7 +130,8 @@ std::string SolidReport::to_json(int indent) const {
     j["free_edges"] = free_edges;
     j["closed"] = closed;
     j["valid"] = valid;
-    j["verdict"] = valid && closed ? "valid closed solid" : (closed ? "closed but invalid (BRepCheck_Analyzer)" : "not closed");
+    j["verdict"] = valid && closed ? "valid closed solid"
+                                   : (closed ? "closed but invalid (BRepCheck_Analyzer)" : "not closed");
     j["sewing_tolerance"] = sewing_tolerance;
     j["max_tolerance"] = max_tolerance;
     j["area"] = area;
@@ -144,9 +145,11 @@ std::string SolidReport::to_json(int indent) const {
     j["relative_max_deviation"] = max_deviation / d;
     j["max_deviation_regular"] = max_deviation_regular;
     j["max_deviation_corner"] = max_deviation_corner;
-    j["max_normal_jump_deg"] = {{"regular", max_normal_jump_regular_deg}, {"corner", max_normal_jump_corner_deg}};
+    j["max_normal_jump_deg"] = {{"regular", max_normal_jump_regular_deg},
+                                {"corner", max_normal_jump_corner_deg}};
     j["seconds"] = seconds;
-    j["stage_seconds"] = {{"sewing", sewing_seconds}, {"check", check_seconds}, {"properties", properties_seconds}};
+    j["stage_seconds"] = {
+        {"sewing", sewing_seconds}, {"check", check_seconds}, {"properties", properties_seconds}};
     j["message"] = message;
     return j.dump(indent);
 }
@@ -164,8 +167,10 @@ Solid make_solid(const fit::BSplinePatches& patches, const SolidOptions& options
     std::vector<double> values;
     std::vector<int> mults;
     for (double k : patches.knots) {
-        if (!values.empty() && values.back() == k) ++mults.back();
-        else values.push_back(k), mults.push_back(1);
+        if (!values.empty() && values.back() == k)
+            ++mults.back();
+        else
+            values.push_back(k), mults.push_back(1);
     }
     TColStd_Array1OfReal knots(1, static_cast<int>(values.size()));
     TColStd_Array1OfInteger multiplicities(1, static_cast<int>(values.size()));
@@ -182,8 +187,8 @@ Solid make_solid(const fit::BSplinePatches& patches, const SolidOptions& options
                     const Vec3& x = p.at(i, j);
                     poles(i + 1, j + 1) = gp_Pnt(x.x, x.y, x.z);
                 }
-            Handle(Geom_BSplineSurface) surface =
-                new Geom_BSplineSurface(poles, knots, knots, multiplicities, multiplicities, patches.degree, patches.degree);
+            Handle(Geom_BSplineSurface) surface = new Geom_BSplineSurface(
+                poles, knots, knots, multiplicities, multiplicities, patches.degree, patches.degree);
             sewing.Add(BRepBuilderAPI_MakeFace(surface, Precision::Confusion()).Face());
         }
         sewing.Perform();
@@ -212,7 +217,8 @@ Solid make_solid(const fit::BSplinePatches& patches, const SolidOptions& options
         r.valid = BRepCheck_Analyzer(result).IsValid();
         const auto t2 = std::chrono::steady_clock::now();
         r.check_seconds = std::chrono::duration<double>(t2 - t1).count();
-        r.max_tolerance = std::max(BRep_Tool::MaxTolerance(result, TopAbs_EDGE), BRep_Tool::MaxTolerance(result, TopAbs_VERTEX));
+        r.max_tolerance = std::max(BRep_Tool::MaxTolerance(result, TopAbs_EDGE),
+                                   BRep_Tool::MaxTolerance(result, TopAbs_VERTEX));
         mass_properties(result, r.area, r.volume);
         r.properties_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t2).count();
         out.impl_->shape = result;
@@ -230,9 +236,11 @@ Solid make_solid(const fit::BSplinePatches& patches, const SolidOptions& options
     r.max_normal_jump_corner_deg = patches.measurement.max_normal_jump_corner_deg;
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     char line[300];
-    std::snprintf(line, sizeof line, "%d faces, %d edges, %d vertices: %s; max deviation %.3g of the diagonal", r.faces,
-                  r.edges, r.vertices,
-                  r.valid && r.closed ? "valid closed solid" : (r.closed ? "closed, but OCCT finds it invalid" : "not closed"),
+    std::snprintf(line, sizeof line,
+                  "%d faces, %d edges, %d vertices: %s; max deviation %.3g of the diagonal", r.faces, r.edges,
+                  r.vertices,
+                  r.valid && r.closed ? "valid closed solid"
+                                      : (r.closed ? "closed, but OCCT finds it invalid" : "not closed"),
                   r.max_deviation / (r.diagonal > 0 ? r.diagonal : 1));
     r.message = line;
     return out;
@@ -246,7 +254,8 @@ void write_step(const Solid& solid, const std::string& path) {
         Interface_Static::SetCVal("write.step.product.name", "quadcage fitted surface");
         if (writer.Transfer(solid.impl_->shape, STEPControl_AsIs) != IFSelect_RetDone)
             throw InvalidInput(path + ": OpenCASCADE could not translate the solid to STEP");
-        if (writer.Write(path.c_str()) != IFSelect_RetDone) throw InvalidInput(path + ": cannot write the STEP file");
+        if (writer.Write(path.c_str()) != IFSelect_RetDone)
+            throw InvalidInput(path + ": cannot write the STEP file");
     } catch (const Standard_Failure& e) {
         throw InvalidInput(path + ": OpenCASCADE failed writing STEP: " + e.GetMessageString());
     }
@@ -257,7 +266,8 @@ void write_iges(const Solid& solid, const std::string& path) {
     try {
         Interface_Static::SetIVal("write.iges.brep.mode", 1);
         IGESControl_Writer writer("MM", 1);
-        if (!writer.AddShape(solid.impl_->shape)) throw InvalidInput(path + ": OpenCASCADE could not translate the solid to IGES");
+        if (!writer.AddShape(solid.impl_->shape))
+            throw InvalidInput(path + ": OpenCASCADE could not translate the solid to IGES");
         writer.ComputeModel();
         if (!writer.Write(path.c_str())) throw InvalidInput(path + ": cannot write the IGES file");
     } catch (const Standard_Failure& e) {
@@ -273,12 +283,14 @@ ReadBack read_back(const std::string& path, int grid, double sewing_tolerance) {
         TopoDS_Shape shape;
         if (ext == "step" || ext == "stp") {
             STEPControl_Reader reader;
-            if (reader.ReadFile(path.c_str()) != IFSelect_RetDone) throw InvalidInput(path + ": OpenCASCADE cannot read it as STEP");
+            if (reader.ReadFile(path.c_str()) != IFSelect_RetDone)
+                throw InvalidInput(path + ": OpenCASCADE cannot read it as STEP");
             reader.TransferRoots();
             shape = reader.OneShape();
         } else if (ext == "igs" || ext == "iges") {
             IGESControl_Reader reader;
-            if (reader.ReadFile(path.c_str()) != IFSelect_RetDone) throw InvalidInput(path + ": OpenCASCADE cannot read it as IGES");
+            if (reader.ReadFile(path.c_str()) != IFSelect_RetDone)
+                throw InvalidInput(path + ": OpenCASCADE cannot read it as IGES");
             reader.TransferRoots();
             shape = reader.OneShape();
             if (topology(shape).solids == 0) {

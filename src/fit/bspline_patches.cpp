@@ -1,10 +1,9 @@
 #include "quadcage/fit/bspline_patches.h"
 
 #include <Eigen/Dense>
-
 #include <algorithm>
-#include <cstdio>
 #include <cmath>
+#include <cstdio>
 #include <mutex>
 #include <unordered_map>
 
@@ -22,7 +21,8 @@ int find_span(const std::vector<double>& knots, double t) {
     const int n = static_cast<int>(knots.size()) - 4;  // control points
     if (t >= knots[n]) return n - 1;
     if (t <= knots[3]) return 3;
-    return static_cast<int>(std::upper_bound(knots.begin() + 3, knots.begin() + n + 1, t) - knots.begin()) - 1;
+    return static_cast<int>(std::upper_bound(knots.begin() + 3, knots.begin() + n + 1, t) - knots.begin()) -
+           1;
 }
 
 /// The 4 non-zero cubic B-spline basis functions at t in span s and their derivatives
@@ -55,20 +55,28 @@ void basis(const std::vector<double>& U, int s, double t, double N[4], double dN
 /// (i, j) of the s-th control point along side k of an n x n grid, from corner k.
 std::array<int, 2> side_index(int k, int s, int n) {
     switch (k) {
-        case 0: return {s, 0};
-        case 1: return {n - 1, s};
-        case 2: return {n - 1 - s, n - 1};
-        default: return {0, n - 1 - s};
+        case 0:
+            return {s, 0};
+        case 1:
+            return {n - 1, s};
+        case 2:
+            return {n - 1 - s, n - 1};
+        default:
+            return {0, n - 1 - s};
     }
 }
 
 /// (u, v) at fraction t along side k, from corner k.
 std::array<double, 2> side_uv(int k, double t) {
     switch (k) {
-        case 0: return {t, 0};
-        case 1: return {1, t};
-        case 2: return {1 - t, 1};
-        default: return {0, 1 - t};
+        case 0:
+            return {t, 0};
+        case 1:
+            return {1, t};
+        case 2:
+            return {1 - t, 1};
+        default:
+            return {0, 1 - t};
     }
 }
 
@@ -86,7 +94,8 @@ struct Context {
         const int lc = std::max(s.level(), 1);
         descend_levels = s.cage_quads() > 0 ? lc : lc - 1;
         patches = mesh.num_quads() >> (2 * descend_levels);
-        QC_CHECK(patches << (2 * descend_levels) == mesh.num_quads(), "patch count does not divide the control mesh");
+        QC_CHECK(patches << (2 * descend_levels) == mesh.num_quads(),
+                 "patch count does not divide the control mesh");
         std::vector<int> valence(mesh.num_vertices(), 0);
         for (const auto& q : mesh.quads)
             for (int v : q) ++valence[v];
@@ -137,8 +146,8 @@ std::vector<double> clamped_knots(const std::vector<double>& b, double doubled =
 
 /// Whether cell (a, b) of an m x m cell grid is the innermost cell at an extraordinary corner.
 bool corner_cell(const std::array<bool, 4>& ev, int a, int b, int m) {
-    return (a == 0 && b == 0 && ev[0]) || (a == m - 1 && b == 0 && ev[1]) || (a == m - 1 && b == m - 1 && ev[2]) ||
-           (a == 0 && b == m - 1 && ev[3]);
+    return (a == 0 && b == 0 && ev[0]) || (a == m - 1 && b == 0 && ev[1]) ||
+           (a == m - 1 && b == m - 1 && ev[2]) || (a == 0 && b == m - 1 && ev[3]);
 }
 
 /// Which cells are approximations: the innermost cell at an extraordinary corner and every cell
@@ -152,7 +161,8 @@ struct CellKinds {
         if (innermost(ev, a, c)) return true;
         const bool lo_u = b[a + 1] <= gregory, hi_u = b[a] >= 1 - gregory;
         const bool lo_v = b[c + 1] <= gregory, hi_v = b[c] >= 1 - gregory;
-        return (ev[0] && lo_u && lo_v) || (ev[1] && hi_u && lo_v) || (ev[2] && hi_u && hi_v) || (ev[3] && lo_u && hi_v);
+        return (ev[0] && lo_u && lo_v) || (ev[1] && hi_u && lo_v) || (ev[2] && hi_u && hi_v) ||
+               (ev[3] && lo_u && hi_v);
     }
     /// How far the corner cells reach along a side from an extraordinary corner.
     double corner_extent() const { return std::max(b[1], gregory); }
@@ -179,7 +189,9 @@ Eigen::Matrix4d collocation_inverse(const std::vector<double>& U, int s, const d
 }
 
 /// Sample parameters inside cell [lo, hi]: s points at the centres of s equal parts.
-double sample_in(double lo, double hi, int s, int i) { return lo + (hi - lo) * (i + 0.5) / s; }
+double sample_in(double lo, double hi, int s, int i) {
+    return lo + (hi - lo) * (i + 0.5) / s;
+}
 
 /// Least-squares fit of the control points `unknown` (ids into out.points) to the limit surface at
 /// `samples` (u, v), the other control points held where they are.
@@ -189,7 +201,8 @@ void fit_points(const Context& ctx, int p, const std::vector<double>& U, const s
     const int n = out.n;
     std::unordered_map<int, int> column;
     for (size_t i = 0; i < unknown.size(); ++i) column[unknown[i]] = static_cast<int>(i);
-    Eigen::MatrixXd A = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(samples.size()), static_cast<Eigen::Index>(unknown.size()));
+    Eigen::MatrixXd A = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(samples.size()),
+                                              static_cast<Eigen::Index>(unknown.size()));
     Eigen::MatrixXd B(static_cast<Eigen::Index>(samples.size()), 3);
     for (size_t r = 0; r < samples.size(); ++r) {
         const double u = samples[r][0], v = samples[r][1];
@@ -203,14 +216,17 @@ void fit_points(const Context& ctx, int p, const std::vector<double>& U, const s
                 const int id = (su - 3 + i) + n * (sv - 3 + j);
                 const double w = Nu[i] * Nv[j];
                 const auto it = column.find(id);
-                if (it != column.end()) A(static_cast<Eigen::Index>(r), it->second) += w;
-                else rhs -= out.points[id] * w;
+                if (it != column.end())
+                    A(static_cast<Eigen::Index>(r), it->second) += w;
+                else
+                    rhs -= out.points[id] * w;
             }
         for (int d = 0; d < 3; ++d) B(static_cast<Eigen::Index>(r), d) = rhs[d];
     }
     const Eigen::MatrixXd X = A.colPivHouseholderQr().solve(B);
     for (size_t i = 0; i < unknown.size(); ++i)
-        out.points[unknown[i]] = Vec3{X(static_cast<Eigen::Index>(i), 0), X(static_cast<Eigen::Index>(i), 1), X(static_cast<Eigen::Index>(i), 2)};
+        out.points[unknown[i]] = Vec3{X(static_cast<Eigen::Index>(i), 0), X(static_cast<Eigen::Index>(i), 1),
+                                      X(static_cast<Eigen::Index>(i), 2)};
 }
 
 /// Control points of patch p. Every polynomial cell (see CellKinds) gives the 16 control points
@@ -256,10 +272,13 @@ double build_patch(const Context& ctx, int p, const std::vector<double>& U, cons
             for (int d = 0; d < 3; ++d) P[d] = inv[a] * F[d] * inv[c].transpose();
             for (int r = 0; r < 4; ++r)
                 for (int q = 0; q < 4; ++q) {
-                    const size_t id = static_cast<size_t>(span[a] - 3 + r) + static_cast<size_t>(n) * (span[c] - 3 + q);
+                    const size_t id =
+                        static_cast<size_t>(span[a] - 3 + r) + static_cast<size_t>(n) * (span[c] - 3 + q);
                     const Vec3 x{P[0](r, q), P[1](r, q), P[2](r, q)};
-                    if (count[id] == 0) first[id] = x;
-                    else spread = std::max(spread, norm(x - first[id]));
+                    if (count[id] == 0)
+                        first[id] = x;
+                    else
+                        spread = std::max(spread, norm(x - first[id]));
                     sum[id] += x;
                     ++count[id];
                 }
@@ -283,9 +302,12 @@ double build_patch(const Context& ctx, int p, const std::vector<double>& U, cons
             for (int i = 0; i < n; ++i) {
                 const int id = i + n * j;
                 if (count[id] > 0 || !in_u(i) || !(hv ? j >= n / 2 : j < (n + 1) / 2)) continue;
-                if (j == (hv ? n - 1 : 0)) row_u.push_back(id);
-                else if (i == (hu ? n - 1 : 0)) row_v.push_back(id);
-                else inner.push_back(id);
+                if (j == (hv ? n - 1 : 0))
+                    row_u.push_back(id);
+                else if (i == (hu ? n - 1 : 0))
+                    row_v.push_back(id);
+                else
+                    inner.push_back(id);
             }
         // Side samples at the centres of 8 equal parts of every cell inside the corner square,
         // mirrored for the far corners so that both patches along a side solve the same problem.
@@ -304,7 +326,8 @@ double build_patch(const Context& ctx, int p, const std::vector<double>& U, cons
             for (int c = 0; c < m && b[c + 1] <= g; ++c)
                 for (int i = 0; i < 5; ++i)
                     for (int j = 0; j < 5; ++j)
-                        area.push_back({mirror(hu, sample_in(b[a], b[a + 1], 5, i)), mirror(hv, sample_in(b[c], b[c + 1], 5, j))});
+                        area.push_back({mirror(hu, sample_in(b[a], b[a + 1], 5, i)),
+                                        mirror(hv, sample_in(b[c], b[c + 1], 5, j))});
         fit_points(ctx, p, U, inner, area, out);
     }
     return spread;
@@ -319,7 +342,8 @@ double angle_deg(const Vec3& a, const Vec3& b) {
 }
 
 /// Largest deviation in the innermost extraordinary corner cells only (cheap: 3 cells per corner).
-double corner_deviation(const Context& ctx, int descend, int depth, int polynomial_depth, int samples, int threads) {
+double corner_deviation(const Context& ctx, int descend, int depth, int polynomial_depth, int samples,
+                        int threads) {
     const CellKinds kinds = cell_kinds(descend, depth, polynomial_depth);
     const std::vector<double>& b = kinds.b;
     BSplinePatches tmp;
@@ -339,7 +363,8 @@ double corner_deviation(const Context& ctx, int descend, int depth, int polynomi
                     for (int j = 0; j <= samples; ++j) {
                         const double u = b[a] + (b[a + 1] - b[a]) * i / samples;
                         const double v = b[c] + (b[c + 1] - b[c]) * j / samples;
-                        dev[p] = std::max(dev[p], norm(evaluate_patch(tmp, p, u, v).position - ctx.limit(p, u, v)));
+                        dev[p] = std::max(dev[p],
+                                          norm(evaluate_patch(tmp, p, u, v).position - ctx.limit(p, u, v)));
                     }
             }
     });
@@ -352,7 +377,8 @@ std::vector<PatchEdge> patch_edges(const Context& ctx) {
     const long long nv = mesh.num_vertices();
     std::unordered_map<long long, int> directed;  // (a, b) -> 4 f + k
     for (int f = 0; f < mesh.num_quads(); ++f)
-        for (int k = 0; k < 4; ++k) directed.emplace(mesh.quads[f][k] * nv + mesh.quads[f][(k + 1) % 4], 4 * f + k);
+        for (int k = 0; k < 4; ++k)
+            directed.emplace(mesh.quads[f][k] * nv + mesh.quads[f][(k + 1) % 4], 4 * f + k);
     std::vector<PatchEdge> edges;
     static const double cu[4] = {0, 1, 1, 0}, cv[4] = {0, 0, 1, 1};
     for (int p = 0; p < ctx.patches; ++p)
@@ -362,7 +388,8 @@ std::vector<PatchEdge> patch_edges(const Context& ctx) {
             const subdiv::FacePoint f = ctx.face_point(p, cu[k], cv[k]);
             const int a = mesh.quads[f.face][k], bb = mesh.quads[f.face][(k + 1) % 4];
             const auto it = directed.find(bb * nv + a);
-            if (it == directed.end()) throw InvalidInput("bspline_patches: the control mesh is open at patch " + std::to_string(p));
+            if (it == directed.end())
+                throw InvalidInput("bspline_patches: the control mesh is open at patch " + std::to_string(p));
             const int q = (it->second / 4) >> (2 * ctx.descend_levels), j = it->second % 4;
             if (q > p || (q == p && j > k)) edges.push_back({{p, q}, {k, j}});
         }
@@ -372,7 +399,8 @@ std::vector<PatchEdge> patch_edges(const Context& ctx) {
 }  // namespace
 
 std::string BSplinePatchOptions::validate() const {
-    if (!(tolerance >= 1e-9 && tolerance < 1)) return "tolerance must be in [1e-9, 1) (relative to the diagonal)";
+    if (!(tolerance >= 1e-9 && tolerance < 1))
+        return "tolerance must be in [1e-9, 1) (relative to the diagonal)";
     if (!(diagonal >= 0) || !std::isfinite(diagonal)) return "diagonal must be finite and >= 0";
     if (max_depth < 1 || max_depth > 12) return "max_depth must be in [1, 12]";
     if (polynomial_depth < 1 || polynomial_depth > 10) return "polynomial_depth must be in [1, 10]";
@@ -405,12 +433,13 @@ PatchPoint evaluate_patch(const BSplinePatches& patches, int p, double u, double
 
 PatchMeasurement measure_patches(const FittedSurface& surface, const BSplinePatches& patches,
                                  const BSplinePatchOptions& options) {
-    if (const std::string why = options.validate(); !why.empty()) throw InvalidInput("measure_patches: " + why);
+    if (const std::string why = options.validate(); !why.empty())
+        throw InvalidInput("measure_patches: " + why);
     if (surface.empty()) throw InvalidInput("measure_patches: the surface is empty");
     const Context ctx(surface);
     if (static_cast<int>(patches.patches.size()) != ctx.patches)
-        throw InvalidInput("measure_patches: " + std::to_string(patches.patches.size()) + " patches for a surface of " +
-                           std::to_string(ctx.patches));
+        throw InvalidInput("measure_patches: " + std::to_string(patches.patches.size()) +
+                           " patches for a surface of " + std::to_string(ctx.patches));
     CellKinds kinds;
     for (size_t i = 3; i + 3 < patches.knots.size(); ++i) kinds.b.push_back(patches.knots[i]);
     kinds.gregory = std::ldexp(1.0, -ctx.descend_levels - options.polynomial_depth);
@@ -439,7 +468,8 @@ PatchMeasurement measure_patches(const FittedSurface& surface, const BSplinePatc
         // The patch corners themselves.
         static const double cu[4] = {0, 1, 1, 0}, cv[4] = {0, 0, 1, 1};
         for (int k = 0; k < 4; ++k) {
-            const double d = norm(evaluate_patch(patches, p, cu[k], cv[k]).position - ctx.limit(p, cu[k], cv[k]));
+            const double d =
+                norm(evaluate_patch(patches, p, cu[k], cv[k]).position - ctx.limit(p, cu[k], cv[k]));
             (ctx.extraordinary[p][k] ? A.cor : A.reg) = std::max(ctx.extraordinary[p][k] ? A.cor : A.reg, d);
             ++A.n;
         }
@@ -455,7 +485,8 @@ PatchMeasurement measure_patches(const FittedSurface& surface, const BSplinePatc
     std::vector<double> ts;
     for (int a = 0; a < m; ++a) {
         ts.push_back(b[a]);
-        for (int i = 0; i < options.edge_samples_per_cell; ++i) ts.push_back(sample_in(b[a], b[a + 1], options.edge_samples_per_cell, i));
+        for (int i = 0; i < options.edge_samples_per_cell; ++i)
+            ts.push_back(sample_in(b[a], b[a + 1], options.edge_samples_per_cell, i));
     }
     ts.push_back(1.0);
     const double t_in = kinds.corner_extent(), t_out = 1 - kinds.corner_extent();
@@ -466,7 +497,8 @@ PatchMeasurement measure_patches(const FittedSurface& surface, const BSplinePatc
         const bool ev_start = ctx.extraordinary[p][k], ev_end = ctx.extraordinary[p][(k + 1) % 4];
         for (double t : ts) {
             const auto a = side_uv(k, t), c = side_uv(j, 1 - t);
-            const PatchPoint x = evaluate_patch(patches, p, a[0], a[1]), y = evaluate_patch(patches, q, c[0], c[1]);
+            const PatchPoint x = evaluate_patch(patches, p, a[0], a[1]),
+                             y = evaluate_patch(patches, q, c[0], c[1]);
             const double jump = angle_deg(cross(x.du, x.dv), cross(y.du, y.dv));
             const bool corner = (ev_start && t <= t_in) || (ev_end && t >= t_out);
             jumps[e][corner ? 1 : 0] = std::max(jumps[e][corner ? 1 : 0], jump);
@@ -480,7 +512,8 @@ PatchMeasurement measure_patches(const FittedSurface& surface, const BSplinePatc
 }
 
 BSplinePatches bspline_patches(const FittedSurface& surface, const BSplinePatchOptions& options) {
-    if (const std::string why = options.validate(); !why.empty()) throw InvalidInput("bspline_patches: " + why);
+    if (const std::string why = options.validate(); !why.empty())
+        throw InvalidInput("bspline_patches: " + why);
     if (surface.empty()) throw InvalidInput("bspline_patches: the surface is empty");
     const Context ctx(surface);
     BSplinePatches out;
@@ -490,7 +523,8 @@ BSplinePatches bspline_patches(const FittedSurface& surface, const BSplinePatchO
         const auto& pts = surface.control_mesh().points;
         box.min = box.max = pts.front();
         for (const Vec3& x : pts)
-            for (int d = 0; d < 3; ++d) box.min[d] = std::min(box.min[d], x[d]), box.max[d] = std::max(box.max[d], x[d]);
+            for (int d = 0; d < 3; ++d)
+                box.min[d] = std::min(box.min[d], x[d]), box.max[d] = std::max(box.max[d], x[d]);
         out.diagonal = box.diagonal();
     }
     out.tolerance = options.tolerance * out.diagonal;
@@ -502,14 +536,15 @@ BSplinePatches bspline_patches(const FittedSurface& surface, const BSplinePatchO
     if (ctx.any_extraordinary) {
         const int top = std::max(min_depth, options.max_depth);
         for (depth = min_depth;; ++depth) {
-            const double d = corner_deviation(ctx, descend, depth, options.polynomial_depth, 4 * options.samples_per_cell,
-                                              options.threads);
+            const double d = corner_deviation(ctx, descend, depth, options.polynomial_depth,
+                                              4 * options.samples_per_cell, options.threads);
             if (d <= out.tolerance) {
                 why_stop = "corner cells within the tolerance";
                 break;
             }
             if (depth >= top) {
-                why_stop = "the deepest refinement allowed (" + std::to_string(top) + ") does not reach the tolerance";
+                why_stop = "the deepest refinement allowed (" + std::to_string(top) +
+                           ") does not reach the tolerance";
                 break;
             }
         }
@@ -540,20 +575,23 @@ BSplinePatches bspline_patches(const FittedSurface& surface, const BSplinePatchO
             const int n = from.n;
             for (int s = 0; s < n; ++s) {
                 const auto a = side_index(E.side[0], s, n), c = side_index(E.side[1], n - 1 - s, n);
-                out.measurement.exactness = std::max(out.measurement.exactness, norm(to.at(c[0], c[1]) - from.at(a[0], a[1])));
+                out.measurement.exactness =
+                    std::max(out.measurement.exactness, norm(to.at(c[0], c[1]) - from.at(a[0], a[1])));
                 to.at(c[0], c[1]) = from.at(a[0], a[1]);
             }
         }
     }
-    const double exactness = std::max(out.measurement.exactness, *std::max_element(spread.begin(), spread.end()));
+    const double exactness =
+        std::max(out.measurement.exactness, *std::max_element(spread.begin(), spread.end()));
     out.measurement = measure_patches(surface, out, options);
     out.measurement.exactness = exactness;
     out.tolerance_met = out.measurement.max_deviation <= out.tolerance;
     char line[400];
-    std::snprintf(line, sizeof line,
-                  "%d patches, %zu knots, depth %d: max deviation %.3g (%.3g of the diagonal; tolerance %.3g) - %s",
-                  ctx.patches, out.knots.size(), depth, out.measurement.max_deviation,
-                  out.measurement.max_deviation / out.diagonal, options.tolerance, why_stop.c_str());
+    std::snprintf(
+        line, sizeof line,
+        "%d patches, %zu knots, depth %d: max deviation %.3g (%.3g of the diagonal; tolerance %.3g) - %s",
+        ctx.patches, out.knots.size(), depth, out.measurement.max_deviation,
+        out.measurement.max_deviation / out.diagonal, options.tolerance, why_stop.c_str());
     out.message = line;
     return out;
 }

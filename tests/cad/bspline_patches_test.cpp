@@ -5,9 +5,9 @@
 #include <cmath>
 
 #include "quadcage/core/errors.h"
+#include "quadcage/core/shapes.h"
 #include "quadcage/subdiv/cage.h"
 #include "quadcage/subdiv/catmull_clark.h"
-#include "quadcage/core/shapes.h"
 #include "quadcage/subdiv/limit_surface.h"
 #include "support/quad_shapes.h"
 
@@ -43,10 +43,12 @@ FittedSurface icosa_surface(int level) {
 
 void expect_sound(const BSplinePatches& p, const std::string& what) {
     SCOPED_TRACE(what + ": " + p.message);
-    std::printf("%s: %s\n  deviation regular %.3g corner %.3g, normal jump regular %.3g deg corner %.3g deg, exactness %.3g\n",
-                what.c_str(), p.message.c_str(), p.measurement.max_deviation_regular, p.measurement.max_deviation_corner,
-                p.measurement.max_normal_jump_regular_deg, p.measurement.max_normal_jump_corner_deg,
-                p.measurement.exactness);
+    std::printf(
+        "%s: %s\n  deviation regular %.3g corner %.3g, normal jump regular %.3g deg corner %.3g deg, "
+        "exactness %.3g\n",
+        what.c_str(), p.message.c_str(), p.measurement.max_deviation_regular,
+        p.measurement.max_deviation_corner, p.measurement.max_normal_jump_regular_deg,
+        p.measurement.max_normal_jump_corner_deg, p.measurement.exactness);
     EXPECT_TRUE(p.tolerance_met);
     EXPECT_LE(p.measurement.max_deviation, p.tolerance);
     EXPECT_LE(p.measurement.max_deviation_regular, 1e-12 * p.diagonal);
@@ -95,7 +97,8 @@ FittedSurface triangle_cage_surface(int level) {
     cage.points = ico.points;
     for (const Triangle& t : ico.triangles) cage.faces.push_back({t[0], t[1], t[2]});
     const subdiv::QuadMesh level1 = subdiv::refine_polygon_cage(cage).level1;
-    auto limit = std::make_shared<const subdiv::LimitSurface>(subdiv::refine_uniform(level1, std::max(level, 1) - 1));
+    auto limit =
+        std::make_shared<const subdiv::LimitSurface>(subdiv::refine_uniform(level1, std::max(level, 1) - 1));
     return FittedSurface(limit, level, 20, level1.num_quads());
 }
 

@@ -33,10 +33,14 @@ const Case& fitted(const std::string& name, int level) {
     if (slot) return *slot;
     Mesh mesh;
     int genus = 0;
-    if (name == "icosphere") mesh = shapes::icosphere(3), genus = 0;
-    else if (name == "torus") mesh = shapes::torus(32, 16), genus = 1;
-    else if (name == "plate3") mesh = shapes::plate_with_holes(3), genus = 3;
-    else mesh = read_mesh(std::string(QUADCAGE_DATA_DIR) + "/eight.off"), genus = 2;
+    if (name == "icosphere")
+        mesh = shapes::icosphere(3), genus = 0;
+    else if (name == "torus")
+        mesh = shapes::torus(32, 16), genus = 1;
+    else if (name == "plate3")
+        mesh = shapes::plate_with_holes(3), genus = 3;
+    else
+        mesh = read_mesh(std::string(QUADCAGE_DATA_DIR) + "/eight.off"), genus = 2;
     fit::FitOptions o;
     o.level = level;
     o.area_samples = 3000;
@@ -77,7 +81,8 @@ void check_export(const std::string& name, int level, int faces) {
     SCOPED_TRACE(name + " level " + std::to_string(level) + ": " + patches.message);
     const Solid solid = make_solid(patches);
     const SolidReport& r = solid.report();
-    std::printf("%s level %d: %s\n  %s\n", name.c_str(), level, patches.message.c_str(), r.to_json(-1).c_str());
+    std::printf("%s level %d: %s\n  %s\n", name.c_str(), level, patches.message.c_str(),
+                r.to_json(-1).c_str());
     EXPECT_TRUE(patches.tolerance_met);
     EXPECT_EQ(r.faces, faces);
     EXPECT_EQ(r.edges, 2 * faces);
@@ -108,8 +113,10 @@ void check_export(const std::string& name, int level, int faces) {
     for (const auto& f : back.samples) points.insert(points.end(), f.begin(), f.end());
     double worst = 0;
     for (double d : fit::distances_to_surface(surface, points)) worst = std::max(worst, d);
-    std::printf("  read back: %d solid(s), %d faces, %d free edges, valid %d; %zu points, max distance %.3g (%.3g of the diagonal)\n",
-                back.solids, back.faces, back.free_edges, back.valid, points.size(), worst, worst / c.diagonal);
+    std::printf(
+        "  read back: %d solid(s), %d faces, %d free edges, valid %d; %zu points, max distance %.3g (%.3g of "
+        "the diagonal)\n",
+        back.solids, back.faces, back.free_edges, back.valid, points.size(), worst, worst / c.diagonal);
     EXPECT_LE(worst, T);
     // Area and volume against the limit surface's tessellation.
     const auto [area, volume] = limit_area_volume(surface, std::max(2, 32 >> std::max(level, 1)));
@@ -121,10 +128,18 @@ void check_export(const std::string& name, int level, int faces) {
     fs::remove_all(dir);
 }
 
-TEST(CadExport, IcosphereIsOneValidSolidOfSixFaces) { check_export("icosphere", 2, 6); }
-TEST(CadExport, TorusIsOneValidSolidOfFourFacesExactEverywhere) { check_export("torus", 2, 4); }
-TEST(CadExport, EightIsOneValidSolidOfTenFaces) { check_export("eight", 2, 10); }
-TEST(CadExport, GenusThreePlateIsOneValidSolidOfTwentyFaces) { check_export("plate3", 1, 20); }
+TEST(CadExport, IcosphereIsOneValidSolidOfSixFaces) {
+    check_export("icosphere", 2, 6);
+}
+TEST(CadExport, TorusIsOneValidSolidOfFourFacesExactEverywhere) {
+    check_export("torus", 2, 4);
+}
+TEST(CadExport, EightIsOneValidSolidOfTenFaces) {
+    check_export("eight", 2, 10);
+}
+TEST(CadExport, GenusThreePlateIsOneValidSolidOfTwentyFaces) {
+    check_export("plate3", 1, 20);
+}
 
 TEST(CadExport, EightAtLevelThreeRoundTripsThroughIges) {
     const Case& c = fitted("eight", 3);
@@ -136,8 +151,11 @@ TEST(CadExport, EightAtLevelThreeRoundTripsThroughIges) {
     const std::string iges = (dir / "surface.igs").string();
     write_iges(solid, iges);
     const ReadBack back = read_back(iges, 4, 1e-5 * c.diagonal);
-    std::printf("eight level 3 IGES: %d solid(s), %d shells, %d faces, %d free edges, valid %d, volume %.9g vs %.9g\n", back.solids,
-                back.shells, back.faces, back.free_edges, back.valid, back.volume, solid.report().volume);
+    std::printf(
+        "eight level 3 IGES: %d solid(s), %d shells, %d faces, %d free edges, valid %d, volume %.9g vs "
+        "%.9g\n",
+        back.solids, back.shells, back.faces, back.free_edges, back.valid, back.volume,
+        solid.report().volume);
     EXPECT_EQ(back.faces, 10);
     EXPECT_EQ(back.free_edges, 0);
     EXPECT_TRUE(back.closed);

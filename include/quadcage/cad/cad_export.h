@@ -20,33 +20,33 @@ struct SolidOptions {
 
 /// What the B-rep is and how it was checked.
 struct SolidReport {
-    int faces = 0;     ///< B-rep faces (one per patch when sewing worked).
-    int edges = 0;     ///< Distinct B-rep edges.
-    int vertices = 0;  ///< Distinct B-rep vertices.
-    int shells = 0;    ///< Shells after sewing (1 for a closed surface).
-    int solids = 0;    ///< Solids made (1).
-    int free_edges = 0;  ///< Edges with one face only (0 when closed).
-    bool closed = false; ///< Every edge has exactly two faces.
-    bool valid = false;  ///< OCCT's BRepCheck_Analyzer verdict on the solid.
+    int faces = 0;                ///< B-rep faces (one per patch when sewing worked).
+    int edges = 0;                ///< Distinct B-rep edges.
+    int vertices = 0;             ///< Distinct B-rep vertices.
+    int shells = 0;               ///< Shells after sewing (1 for a closed surface).
+    int solids = 0;               ///< Solids made (1).
+    int free_edges = 0;           ///< Edges with one face only (0 when closed).
+    bool closed = false;          ///< Every edge has exactly two faces.
+    bool valid = false;           ///< OCCT's BRepCheck_Analyzer verdict on the solid.
     double sewing_tolerance = 0;  ///< Used for sewing.
     double max_tolerance = 0;     ///< Largest tolerance of an edge or vertex of the result.
     double area = 0;              ///< Surface area (BRepGProp).
     double volume = 0;            ///< Enclosed volume (BRepGProp), positive: faces oriented outward.
     // From the patches (bspline_patches()):
-    int depth = 0;                ///< Knot refinements toward extraordinary corners.
-    int knots = 0;                ///< Knots per direction (with the end multiplicities).
-    double tolerance = 0;         ///< Deviation allowed (absolute).
-    double max_deviation = 0;     ///< Measured max distance to the limit surface (absolute).
-    double max_deviation_regular = 0;  ///< ... in the polynomial cells.
-    double max_deviation_corner = 0;   ///< ... in the corner cells.
+    int depth = 0;                           ///< Knot refinements toward extraordinary corners.
+    int knots = 0;                           ///< Knots per direction (with the end multiplicities).
+    double tolerance = 0;                    ///< Deviation allowed (absolute).
+    double max_deviation = 0;                ///< Measured max distance to the limit surface (absolute).
+    double max_deviation_regular = 0;        ///< ... in the polynomial cells.
+    double max_deviation_corner = 0;         ///< ... in the corner cells.
     double max_normal_jump_regular_deg = 0;  ///< Across patch sides away from extraordinary corners.
     double max_normal_jump_corner_deg = 0;   ///< Across patch sides along corner cells.
-    double diagonal = 0;          ///< The length relative figures use.
-    double seconds = 0;           ///< Building the solid (not the patches), of which:
-    double sewing_seconds = 0;    ///< ... faces and sewing,
-    double check_seconds = 0;     ///< ... BRepCheck_Analyzer,
-    double properties_seconds = 0;  ///< ... area and volume.
-    std::string message;          ///< One line.
+    double diagonal = 0;                     ///< The length relative figures use.
+    double seconds = 0;                      ///< Building the solid (not the patches), of which:
+    double sewing_seconds = 0;               ///< ... faces and sewing,
+    double check_seconds = 0;                ///< ... BRepCheck_Analyzer,
+    double properties_seconds = 0;           ///< ... area and volume.
+    std::string message;                     ///< One line.
     /// The report as a JSON object (relative figures divided by `diagonal` included).
     std::string to_json(int indent = 2) const;
 };

@@ -31,7 +31,7 @@ struct BSplinePatchOptions {
     int samples_per_cell = 4;
     /// Normal-jump samples per cell along every shared patch side, >= 1.
     int edge_samples_per_cell = 4;
-    int threads = 0;  ///< 0 = all cores.
+    int threads = 0;               ///< 0 = all cores.
     std::string validate() const;  ///< Empty if valid, else what is wrong.
 };
 
@@ -39,8 +39,8 @@ struct BSplinePatchOptions {
 /// BSplinePatches (the same in u and v). (u, v) = (0,0), (1,0), (1,1), (0,1) are the patch's
 /// corners 0..3, counter-clockwise seen from outside (du x dv points outward), as in the cage.
 struct BSplinePatch {
-    int n = 0;                ///< Control points per direction.
-    std::vector<Vec3> points; ///< points[i + n * j]: i along u, j along v.
+    int n = 0;                 ///< Control points per direction.
+    std::vector<Vec3> points;  ///< points[i + n * j]: i along u, j along v.
     /// Whether corner k (as above) is an extraordinary vertex (valence != 4) of the surface.
     std::array<bool, 4> extraordinary{};
     const Vec3& at(int i, int j) const { return points[static_cast<size_t>(i) + static_cast<size_t>(n) * j]; }
@@ -73,20 +73,21 @@ struct PatchMeasurement {
 
 /// The patches of a fitted surface.
 struct BSplinePatches {
-    int degree = 3;              ///< In u and in v.
+    int degree = 3;  ///< In u and in v.
     /// Clamped knot vector (multiplicity degree+1 at 0 and 1, simple inside), the same for u and v
     /// and for every patch: uniform with spacing 2^-K at fit level K over a cage quad, plus knots at
     /// h*2^-d and 1 - h*2^-d (h = that spacing, d = 1..depth) toward the corners. n = knots - 4.
     std::vector<double> knots;
-    std::vector<BSplinePatch> patches;  ///< One per level-0 cage quad (per level-1 quad of a cage with other faces).
-    std::vector<PatchEdge> edges;       ///< Every shared side once.
-    int depth = 0;              ///< Geometric refinements toward the corners (0: no extraordinary corner).
+    std::vector<BSplinePatch>
+        patches;  ///< One per level-0 cage quad (per level-1 quad of a cage with other faces).
+    std::vector<PatchEdge> edges;  ///< Every shared side once.
+    int depth = 0;                 ///< Geometric refinements toward the corners (0: no extraordinary corner).
     bool exact_everywhere = false;  ///< No extraordinary corner: the patches are the limit surface.
-    double diagonal = 0;        ///< The length tolerances are relative to.
-    double tolerance = 0;       ///< Absolute tolerance (BSplinePatchOptions::tolerance * diagonal).
-    bool tolerance_met = false; ///< measurement.max_deviation <= tolerance.
+    double diagonal = 0;            ///< The length tolerances are relative to.
+    double tolerance = 0;           ///< Absolute tolerance (BSplinePatchOptions::tolerance * diagonal).
+    bool tolerance_met = false;     ///< measurement.max_deviation <= tolerance.
     PatchMeasurement measurement;
-    std::string message;        ///< One line: depth, deviation, and why it stopped.
+    std::string message;  ///< One line: depth, deviation, and why it stopped.
 };
 
 /// Position and first derivatives of a patch.
