@@ -32,8 +32,9 @@ public:
              const std::vector<std::string>& inputs);
     /// Builds the patches and the solid, checks them and writes the files into staging. Throws
     /// InvalidInput when the tolerance cannot be met or the solid is not a valid closed solid.
-    /// Returns the export report (JSON object).
-    nlohmann::json write(const fit::FittedSurface& surface, double diagonal,
+    /// `irregular_level` is the fit's FitOptions::irregular_level (the depth to which OpenSubdiv's
+    /// surface is polynomial). Returns the export report (JSON object).
+    nlohmann::json write(const fit::FittedSurface& surface, double diagonal, int irregular_level,
                          const std::function<void(const std::string&)>& progress);
     /// Moves the files staged outside the primary directory in.
     void commit();

@@ -440,7 +440,8 @@ int run_fit_cage(const FitCommandOptions& o) {
         const Pending& p = pending[c];
         const std::string dir = component_dir(c, nc), tag = component_tag(c, nc);
         json cad_report;
-        if (cad) cad_report = cad->write(p.fit.surface, p.fit.levels.back().diagonal, progress.callback(tag));
+        if (cad) cad_report = cad->write(p.fit.surface, p.fit.levels.back().diagonal, fit_options.irregular_level,
+                                           progress.callback(tag));
         progress.say(tag + "writing the fitted surface");
         const fit::FitOutputs written = fit::write_fit_outputs(out.folder(dir), prepared.components[c], p.fit, fit_options);
         json report = json::parse(fit::fit_report_json(p.fit, fit_options, &written.tessellation));
@@ -512,7 +513,8 @@ int run_fit(const FitCommandOptions& o) {
         Pending& p = pending[c];
         const std::string tag = component_tag(c, nc);
         json cad_report;
-        if (cad) cad_report = cad->write(p.fit.surface, p.fit.levels.back().diagonal, progress.callback(tag));
+        if (cad) cad_report = cad->write(p.fit.surface, p.fit.levels.back().diagonal, fit_options.irregular_level,
+                                           progress.callback(tag));
         write_layout_files(out, p.layout);
         progress.say(tag + "writing the fitted surface");
         const fit::FitOutputs written = fit::write_fit_outputs(out.folder(p.layout.dir), *p.mesh, p.fit, fit_options);

@@ -36,7 +36,7 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 
 /// The surface `fit` wrote into `dir` (fitted_cage.obj + report.json), with its diagonal.
 /// \throw InvalidInput naming the file and the problem.
-fit::FittedSurface load_fit(const std::string& dir, double& diagonal) {
+fit::FittedSurface load_fit(const std::string& dir, double& diagonal, int& irregular_level) {
     const fs::path base(dir);
     std::error_code ec;
     if (!fs::is_directory(base, ec)) throw InvalidInput(dir + ": not a directory written by `quadcage fit`");
@@ -73,6 +73,8 @@ fit::FittedSurface load_fit(const std::string& dir, double& diagonal) {
         const int want_vertices = r.at("fitted_cage").at("vertices").get<int>();
         const int want_quads = r.at("fitted_cage").at("quads").get<int>();
         const int irregular = r.value("irregular_level", fit::FitOptions{}.irregular_level);
+        if (irregular < 1 || irregular > 10) throw InvalidInput(report_path + ": irregular_level must be in [1, 10]");
+        irregular_level = irregular;
         const int lc = std::max(level, 1);
         const PolygonMesh cage = read_polygon_mesh(cage_path);
         auto disagree = [&](const std::string& what, long long got, long long want) {
@@ -168,12 +170,13 @@ std::string CadStage::staged(const std::string& file) {
     throw InternalError("CAD file " + file + " was not expected");
 }
 
-json CadStage::write(const fit::FittedSurface& surface, double diagonal,
+json CadStage::write(const fit::FittedSurface& surface, double diagonal, int irregular_level,
                      const std::function<void(const std::string&)>& progress) {
     const auto t0 = std::chrono::steady_clock::now();
     fit::BSplinePatchOptions po;
     po.tolerance = files_.tolerance;
     po.diagonal = diagonal;
+    po.polynomial_depth = irregular_level;
     if (progress) progress("CAD: B-spline patches of the limit surface");
     const fit::BSplinePatches patches = fit::bspline_patches(surface, po);
     const double patch_seconds = seconds_since(t0);
@@ -247,13 +250,14 @@ int run_export(const ExportOptions& o) {
     if (!files.any()) files.step = (fs::path(o.dir) / "surface.step").string();
     say("loading the fit in " + o.dir);
     double diagonal = 0;
-    const fit::FittedSurface surface = load_fit(o.dir, diagonal);
+    int irregular_level = 0;
+    const fit::FittedSurface surface = load_fit(o.dir, diagonal, irregular_level);
     const std::vector<std::string> inputs = {(fs::path(o.dir) / "report.json").string(),
                                              (fs::path(o.dir) / "fitted_cage.obj").string()};
     OutputDir out(o.dir);
     out.expect({"export.json"}, inputs);
     CadStage stage(files, &out, o.dir, inputs);
-    json report = stage.write(surface, diagonal, say);
+    json report = stage.write(surface, diagonal, irregular_level, say);
     report["command"] = "export";
     report["fit"] = o.dir;
     report["level"] = surface.level();
