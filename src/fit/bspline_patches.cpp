@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <mutex>
 #include <unordered_map>
 
 #include "quadcage/core/errors.h"
@@ -341,7 +340,8 @@ double angle_deg(const Vec3& a, const Vec3& b) {
     return std::atan2(s, c) * 180 / kPi;
 }
 
-/// Largest deviation in the innermost extraordinary corner cells only (cheap: 3 cells per corner).
+/// Largest deviation in the corner cells at extraordinary corners only (cheap: only the cells near
+/// the corners are built).
 double corner_deviation(const Context& ctx, int descend, int depth, int polynomial_depth, int samples,
                         int threads) {
     const CellKinds kinds = cell_kinds(descend, depth, polynomial_depth);
