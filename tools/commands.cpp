@@ -13,6 +13,7 @@
 #include <sys/resource.h>
 
 #include "quadcage/accel/closest_point.h"
+#include "quadcage/cad/cad_export.h"
 #include "quadcage/core/errors.h"
 #include "quadcage/core/io.h"
 #include "quadcage/core/openmesh_bridge.h"
@@ -652,6 +653,7 @@ int run_version() {
     std::printf("  %s\n", accel::embree_version().c_str());
     std::printf("  %s\n", fit::ceres_version().c_str());
     std::printf("  %s\n", fit::eigen_version().c_str());
+    std::printf("  %s\n", cad::occt_version().c_str());
     return kOk;
 }
 

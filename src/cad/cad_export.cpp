@@ -22,6 +22,7 @@
 #include <STEPControl_Reader.hxx>
 #include <STEPControl_Writer.hxx>
 #include <Standard_Failure.hxx>
+#include <Standard_Version.hxx>
 #include <TColStd_Array1OfInteger.hxx>
 #include <TColStd_Array1OfReal.hxx>
 #include <TColgp_Array2OfPnt.hxx>
@@ -273,6 +274,26 @@ void write_iges(const Solid& solid, const std::string& path) {
     } catch (const Standard_Failure& e) {
         throw InvalidInput(path + ": OpenCASCADE failed writing IGES: " + e.GetMessageString());
     }
+}
+
+std::string occt_version() {
+    // A call into the library: the area of a unit square as a degree-1 B-spline face.
+    double area = 0;
+    try {
+        TColgp_Array2OfPnt poles(1, 2, 1, 2);
+        poles(1, 1) = gp_Pnt(0, 0, 0), poles(2, 1) = gp_Pnt(1, 0, 0), poles(1, 2) = gp_Pnt(0, 1, 0), poles(2, 2) = gp_Pnt(1, 1, 0);
+        TColStd_Array1OfReal k(1, 2);
+        TColStd_Array1OfInteger m(1, 2);
+        k(1) = 0, k(2) = 1, m(1) = 2, m(2) = 2;
+        GProp_GProps props;
+        BRepGProp::SurfaceProperties(BRepBuilderAPI_MakeFace(new Geom_BSplineSurface(poles, k, k, m, m, 1, 1), 1e-7).Face(), props);
+        area = props.Mass();
+    } catch (const Standard_Failure&) {
+        return std::string("OpenCASCADE ") + OCC_VERSION_COMPLETE + " (test face: FAILED)";
+    }
+    char line[80];
+    std::snprintf(line, sizeof line, " (unit B-spline face: area %.6g)", area);
+    return std::string("OpenCASCADE ") + OCC_VERSION_COMPLETE + line;
 }
 
 ReadBack read_back(const std::string& path, int grid, double sewing_tolerance) {

@@ -102,4 +102,7 @@ struct ReadBack {
 /// per face. \throw InvalidInput if the file cannot be read.
 ReadBack read_back(const std::string& path, int grid = 0, double sewing_tolerance = 1e-6);
 
+/// "OpenCASCADE X.Y.Z", from the linked library (OCCT's run-time version string).
+std::string occt_version();
+
 }  // namespace quadcage::cad
