@@ -5,7 +5,9 @@
 # installs PREFIX/include/quadcage/**, the static module libraries (PREFIX/lib), the quadcage
 # executable (PREFIX/bin), the QuadriFlow peer script (PREFIX/share/quadcage) and the package
 # PREFIX/lib/cmake/quadcage: quadcageConfig.cmake, quadcageConfigVersion.cmake, the exported targets
-# quadcage::{core,subdiv,layout,accel,fit,render,bench} and quadcage::quadcage, and
+# quadcage::{core,subdiv,layout,accel,fit,render,bench} and quadcage::quadcage, the optional
+# quadcage::cad in an export set of its own (quadcageCadTargets.cmake, loaded only where OpenCASCADE
+# is found, so a consumer of quadcage::quadcage never needs OpenCASCADE), and
 # FindOpenSubdivDebian.cmake. Every installed path is relative to PREFIX: the tree can be moved.
 include(CMakePackageConfigHelpers)
 
@@ -18,12 +20,17 @@ install(TARGETS
   EXPORT quadcageTargets
   ARCHIVE DESTINATION "${CMAKE_INSTALL_LIBDIR}"
   LIBRARY DESTINATION "${CMAKE_INSTALL_LIBDIR}")
+install(TARGETS quadcage_cad
+  EXPORT quadcageCadTargets
+  ARCHIVE DESTINATION "${CMAKE_INSTALL_LIBDIR}"
+  LIBRARY DESTINATION "${CMAKE_INSTALL_LIBDIR}")
 install(TARGETS quadcage RUNTIME DESTINATION "${CMAKE_INSTALL_BINDIR}")
 install(DIRECTORY "${PROJECT_SOURCE_DIR}/include/quadcage" DESTINATION "${CMAKE_INSTALL_INCLUDEDIR}"
   FILES_MATCHING PATTERN "*.h")
 install(FILES "${PROJECT_SOURCE_DIR}/tools/bench/quadriflow.py" DESTINATION "${CMAKE_INSTALL_DATADIR}/quadcage")
 
 install(EXPORT quadcageTargets NAMESPACE quadcage:: DESTINATION "${QUADCAGE_INSTALL_CMAKEDIR}")
+install(EXPORT quadcageCadTargets NAMESPACE quadcage:: DESTINATION "${QUADCAGE_INSTALL_CMAKEDIR}")
 configure_package_config_file("${PROJECT_SOURCE_DIR}/cmake/quadcageConfig.cmake.in"
   "${PROJECT_BINARY_DIR}/quadcageConfig.cmake"
   INSTALL_DESTINATION "${QUADCAGE_INSTALL_CMAKEDIR}")

@@ -1,5 +1,7 @@
 #include "commands.h"
 
+#include "cad_stage.h"
+
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -7,6 +9,7 @@
 #include <iostream>
 
 #include "quadcage/accel/closest_point.h"
+#include "quadcage/cad/cad_export.h"
 #include "quadcage/core/errors.h"
 #include "quadcage/core/io.h"
 #include "quadcage/core/mesh_info.h"
@@ -115,6 +118,20 @@ fit::FitOptions fit_options_of(const FitCommandOptions& o) {
     return fit_options;
 }
 
+// The STEP/IGES files of `fit --step/--iges`: one component only (checked before any work).
+std::unique_ptr<CadStage> fit_cad_stage(const FitCommandOptions& o, OutputDir& out, size_t components,
+                                        const std::vector<std::string>& inputs) {
+    CadFileOptions files;
+    files.step = o.step;
+    files.iges = o.iges;
+    files.tolerance = o.cad_tolerance;
+    if (!files.any()) return nullptr;
+    if (components != 1)
+        throw InvalidInput(o.mesh + ": has " + std::to_string(components) +
+                           " components; --step/--iges export one solid: fit, then `quadcage export DIR/component_<i>`");
+    return std::make_unique<CadStage>(files, &out, o.output_dir, inputs);
+}
+
 // `fit`'s summary: per component its layout or control mesh, then a line per level.
 void print_fit_summary(const fit::MeshFit& result, const fit::MeshFitReport& written, double tolerance) {
     const size_t nc = written.components.size();
@@ -165,8 +182,10 @@ int run_fit(const FitCommandOptions& o) {
     const size_t nc = prepared.components.size();
     options.progress = progress.callback("");
     fit::MeshFit result;
+    std::unique_ptr<CadStage> cad;
     if (o.cage.empty()) {
         out.expect(fit::fit_output_names(nc, true), {o.mesh});
+        cad = fit_cad_stage(o, out, nc, {o.mesh});
         layout::QuadLayoutOptions layout_options;
         layout_options.progress = progress.callback("layout: ");
         result = fit::fit_mesh(prepared, o.mesh, layout_options, options);
@@ -174,12 +193,24 @@ int run_fit(const FitCommandOptions& o) {
         progress.say("loading " + o.cage);
         const PolygonMesh cage = read_polygon_mesh(o.cage);
         out.expect(fit::fit_output_names(nc, false), {o.mesh, o.cage});
+        cad = fit_cad_stage(o, out, nc, {o.mesh, o.cage});
         result = fit::fit_mesh_to_control_mesh(prepared, o.mesh, cage, o.cage, options);
+    }
+    // fit --step/--iges: the solid is built, checked and staged before anything is committed.
+    nlohmann::json cad_report;
+    if (cad) {
+        const fit::FitResult& f = result.fits[0];
+        cad_report = cad->write(f.surface, f.levels.back().diagonal, options.irregular_level, progress.callback(""));
+        result.report.components[0].sections["cad"] = cad_report.dump();
     }
     const fit::MeshFitReport written = fit::write_mesh_fit_outputs(out, prepared, result, progress.callback(""));
     out.commit();  // a tolerance not met is reported, not an error
+    if (cad) cad->commit();
     if (o.json) std::cout << (nc == 1 ? written.components[0].to_json() : written.to_json());
-    else print_fit_summary(result, written, options.tolerance);
+    else {
+        print_fit_summary(result, written, options.tolerance);
+        if (cad) print_cad_summary("  ", cad_report);
+    }
     progress.say("wrote " + o.output_dir);
     return kOk;
 }
@@ -220,6 +251,7 @@ int run_version() {
     std::printf("  %s\n", accel::embree_version().c_str());
     std::printf("  %s\n", fit::ceres_version().c_str());
     std::printf("  %s\n", fit::eigen_version().c_str());
+    std::printf("  %s\n", cad::occt_version().c_str());
     return kOk;
 }
 

@@ -39,10 +39,24 @@ struct FitCommandOptions {
     int max_level = 5;        ///< --max-level with --tolerance.
     std::string cage;         ///< --cage CAGE: fit this control mesh instead of building a layout.
     std::string solver = "direct";  ///< --solver: direct or ceres (fit::FitSolver).
+    std::string step;         ///< --step FILE: also export the fitted surface as a STEP solid.
+    std::string iges;         ///< --iges FILE: ... and/or as IGES.
+    double cad_tolerance = 1e-5;  ///< --cad-tolerance T (relative to the diagonal).
     bool json = false;        ///< Print report.json instead of the summary.
     bool quiet = false;       ///< No progress on stderr.
 };
 int run_fit(const FitCommandOptions& options);
+
+/// `export DIR`: the fit in DIR as a B-rep solid (STEP and/or IGES; issue 22).
+struct ExportOptions {
+    std::string dir;              ///< Written by `fit`.
+    std::string step;             ///< --step FILE (default DIR/surface.step when neither is given).
+    std::string iges;             ///< --iges FILE.
+    double cad_tolerance = 1e-5;  ///< --cad-tolerance T, relative to the fit's diagonal, >= 1e-9.
+    bool json = false;
+    bool quiet = false;
+};
+int run_export(const ExportOptions& options);
 
 struct GenerateOptions {
     std::string shape;   ///< "sphere", "torus", "plate" or "limbs".

@@ -13,6 +13,8 @@ packages=(
   # libceres-dev pulls in: CHOLMOD's dense kernels in the fit's solver, about 12% less solve time
   # on botijo (tools/bench/fit_speed.sh).
   libopenblas0-pthread
+  # OpenCASCADE 7.6 for the CAD export (module cad only: B-spline faces, sewing, STEP and IGES).
+  libocct-foundation-dev libocct-modeling-data-dev libocct-modeling-algorithms-dev libocct-data-exchange-dev
 )
 
 missing=()

@@ -41,6 +41,7 @@ json component_object(const ComponentFitReport& r) {
         report["control_mesh"] = {{"faces", r.control_mesh_faces}, {"vertices", r.control_mesh_vertices}};
         report["seconds"] = {{"fit", r.fit_seconds}, {"total", r.fit_seconds}};
     }
+    for (const auto& [key, text] : r.sections) report[key] = json::parse(text);
     report["peak_memory_mib"] = r.peak_memory_mib;
     return report;
 }

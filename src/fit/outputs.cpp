@@ -139,7 +139,8 @@ FitReport fit_report(const FitResult& result, const FitOptions& options, const T
     r.rejected_level = result.rejected_level;
     if (!result.surface.empty())
         r.fitted_cage = FitReport::ControlMesh{result.surface.control_mesh().num_vertices(),
-                                               result.surface.control_mesh().num_quads()};
+                                               result.surface.control_mesh().num_quads(), result.surface.cage_faces()};
+    r.irregular_level = options.irregular_level;
     if (tessellation) r.limit_tessellation = *tessellation;
     return r;
 }

@@ -74,8 +74,10 @@ void put_fit_report(const FitReport& r, Json& report) {
         Json c;
         c["vertices"] = r.fitted_cage->vertices;
         c["quads"] = r.fitted_cage->quads;
+        c["level0_faces"] = r.fitted_cage->level0_faces;
         report["fitted_cage"] = c;
     }
+    report["irregular_level"] = r.irregular_level;
     if (r.limit_tessellation) {
         const TessellationChoice& t = *r.limit_tessellation;
         Json j;

@@ -212,7 +212,7 @@ TEST(CliUsage, HelpExitsZeroAndListsCommands) {
 TEST(CliVersion, EveryLibraryAnswers) {
     const Outcome r = quadcage("version");
     ASSERT_EQ(r.code, 0) << r.err;
-    for (const char* lib : {"OpenMesh", "OpenSubdiv", "Embree", "Ceres", "Eigen"})
+    for (const char* lib : {"OpenMesh", "OpenSubdiv", "Embree", "Ceres", "Eigen", "OpenCASCADE"})
         EXPECT_NE(r.out.find(lib), std::string::npos) << lib << " missing in:\n" << r.out;
     EXPECT_EQ(r.out.find("FAILED"), std::string::npos) << r.out;
 }

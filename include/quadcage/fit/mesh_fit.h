@@ -4,6 +4,7 @@
 // for `quadcage layout`).
 
 #include <functional>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -32,6 +33,9 @@ struct ComponentFitReport {
     double fit_seconds = 0;         ///< Wall-clock seconds of the fit.
     double peak_memory_mib = 0;     ///< Peak resident memory of the process once the files were written, MiB.
     FitReport fit;                  ///< With limit_tessellation once the files were written.
+    /// Further top-level objects of the report by key, each as the JSON text of another module's
+    /// report (`quadcage fit --step` puts the CAD export's under "cad"). Written as objects.
+    std::map<std::string, std::string> sections;
 
     /// The report as pretty-printed JSON (2-space indent, keys in alphabetical order, a final
     /// newline): FitReport's fields, command ("fit"), input, component, components, seconds

@@ -81,8 +81,10 @@ struct FitReport {
     struct ControlMesh {
         int vertices = 0;
         int quads = 0;
+        int level0_faces = 0;  ///< FittedSurface::cage_faces(): faces of the level-0 cage.
     };
     std::optional<ControlMesh> fitted_cage;
+    int irregular_level = 0;  ///< FitOptions::irregular_level (the export evaluates with it).
     std::optional<TessellationChoice> limit_tessellation;  ///< The tessellation of limit.ply, once written.
 
     /// The report as pretty-printed JSON (2-space indent, keys in this order, a final newline):
@@ -91,7 +93,8 @@ struct FitReport {
     /// surface_to_input: {...}, rms, hausdorff}, relative: {same}, within_tolerance, iterations,
     /// solver_iterations, stop_reason, seconds: {parameterization, evaluation, closest_points,
     /// solve, total}, unfitted_relative: {rms, hausdorff} when measured}], rejected_level (same
-    /// shape) if set, fitted_cage {vertices, quads} if set, limit_tessellation {segments_per_face,
+    /// shape) if set, fitted_cage {vertices, quads, level0_faces} if set, irregular_level,
+    /// limit_tessellation {segments_per_face,
     /// triangles, rms_error, max_error, target, met} if set. Deterministic: equal reports give
     /// equal text.
     /// \throw InternalError if a number is not finite (it would be written as null).
