@@ -76,7 +76,8 @@ TEST(FitReport, FieldsInTheirDocumentedOrder) {
     const std::string text = r.to_json();
     const auto j = nlohmann::ordered_json::parse(text);
     EXPECT_EQ(keys(j), (std::vector<std::string>{"mode", "requested_level", "tolerance", "tolerance_met", "level",
-                                                 "message", "diagonal", "levels", "fitted_cage", "limit_tessellation"}));
+                                                 "message", "diagonal", "levels", "fitted_cage", "irregular_level",
+                                                 "limit_tessellation"}));
     EXPECT_EQ(j["mode"], "level");
     EXPECT_EQ(j["requested_level"], 1);
     ASSERT_EQ(j["levels"].size(), 2u);
@@ -148,6 +149,12 @@ TEST(ComponentFitReport, LayoutFitAndControlMeshFitFields) {
     EXPECT_EQ(j["limit_tessellation"]["triangles"], 1280);
     EXPECT_FALSE(j.contains("cage"));
     EXPECT_FALSE(j.contains("control_mesh"));
+    EXPECT_FALSE(j.contains("cad"));
+    // Another module's report (the CAD export's) goes in as an object under its key.
+    c.sections["cad"] = R"({"faces": 10, "valid": true})";
+    const auto with_cad = nlohmann::json::parse(c.to_json());
+    EXPECT_EQ(with_cad["cad"], nlohmann::json({{"faces", 10}, {"valid", true}}));
+    c.sections.clear();
 
     c.layout.reset();
     c.cage = "cage.obj";
