@@ -292,8 +292,14 @@ int run_generate(const GenerateOptions& o) {
         l.subdivisions = o.resolution;
         l.seed = o.seed;
         mesh = shapes::body_with_limbs(l);
+    } else if (o.shape == "handles") {
+        shapes::HandleBodyOptions h;
+        h.handles = o.genus;
+        h.resolution = std::max(2, o.resolution);
+        h.in_a_row = o.in_a_row;
+        mesh = shapes::body_with_handles(h);
     } else {
-        throw InvalidInput("unknown shape '" + o.shape + "' (use sphere, torus, plate or limbs)");
+        throw InvalidInput("unknown shape '" + o.shape + "' (use sphere, torus, plate, limbs or handles)");
     }
     write_mesh_by_extension(o.output, mesh);
     std::printf("%s: %d vertices, %d triangles\n", o.output.c_str(), mesh.num_vertices(), mesh.num_triangles());

@@ -59,9 +59,11 @@ struct ExportOptions {
 int run_export(const ExportOptions& options);
 
 struct GenerateOptions {
-    std::string shape;   ///< "sphere", "torus", "plate" or "limbs".
-    int genus = 2;       ///< plate only.
-    int resolution = 2;  ///< plate: grid cells per unit; sphere, limbs: subdivisions; torus: segments / 8.
+    std::string shape;   ///< "sphere", "torus", "plate", "limbs" or "handles".
+    int genus = 2;       ///< plate, handles.
+    int resolution = 2;  ///< plate: grid cells per unit; sphere, limbs: subdivisions; torus: segments / 8;
+                         ///< handles: voxels per cell.
+    bool in_a_row = false;  ///< handles only: side by side along one edge.
     int limbs = 4;       ///< limbs only: protrusions.
     unsigned seed = 1;   ///< limbs only: which figure.
     std::string output;

@@ -136,14 +136,18 @@ int main(int argc, char** argv) {
     GenerateOptions gen;
     CLI::App* gen_cmd = app.add_subcommand("generate", "Write a closed test surface of known genus.");
     gen_cmd->add_option("SHAPE", gen.shape,
-                        "sphere, torus, plate (a thickened plate with holes) or limbs (a genus-0 body with\n"
-                        "long limbs, like a cartoon figure)")
+                        "sphere, torus, plate (a thickened plate with holes), limbs (a genus-0 body with\n"
+                        "long limbs, like a cartoon figure) or handles (a big smooth body with --genus small\n"
+                        "handles on its top)")
         ->required()
-        ->check(CLI::IsMember({"sphere", "torus", "plate", "limbs"}));
-    gen_cmd->add_option("--genus,-g", gen.genus, "Number of holes of the plate")->check(CLI::Range(0, 200));
+        ->check(CLI::IsMember({"sphere", "torus", "plate", "limbs", "handles"}));
+    gen_cmd->add_option("--genus,-g", gen.genus, "Number of holes of the plate, or of handles (handles: at most 64)")
+        ->check(CLI::Range(0, 200));
     gen_cmd->add_option("--resolution,-r", gen.resolution,
-                        "Mesh resolution (plate: cells per unit; sphere, limbs: icosphere subdivisions)")
+                        "Mesh resolution (plate: cells per unit; sphere, limbs: icosphere subdivisions;\n"
+                        "handles: voxels per handle width, at least 2)")
         ->check(CLI::Range(1, 64));
+    gen_cmd->add_flag("--in-a-row", gen.in_a_row, "handles: side by side along one edge of the top (genus in one region)");
     gen_cmd->add_option("--limbs", gen.limbs, "limbs: number of limbs (default 4)")->check(CLI::Range(0, 32));
     gen_cmd->add_option("--seed", gen.seed, "limbs: which figure (default 1)");
     gen_cmd->add_option("-o,--output", gen.output, "Output file (.obj or .ply)")->required();

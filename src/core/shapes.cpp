@@ -1,6 +1,7 @@
 #include "quadcage/core/shapes.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <map>
@@ -308,6 +309,94 @@ Mesh body_with_limbs(const LimbOptions& o) {
             if (c > l.cos_width) r += l.length * std::pow((c - l.cos_width) / (1 - l.cos_width), 0.6);
         }
         p = Vec3{p.x * (1 + 0.3 * p.z), p.y * 0.8, p.z * 1.3} * r;
+    }
+    return mesh;
+}
+
+Mesh body_with_handles(const HandleBodyOptions& o) {
+    require(o.handles >= 0 && o.handles <= 64, "body_with_handles: handles must be in 0..64, got " + std::to_string(o.handles));
+    require(o.body_cells >= 4 && o.body_cells <= 64,
+            "body_with_handles: body_cells must be in 4..64, got " + std::to_string(o.body_cells));
+    require(o.resolution >= 2 && o.resolution <= 16,
+            "body_with_handles: resolution must be in 2..16, got " + std::to_string(o.resolution));
+    require(o.smoothing >= 0 && o.smoothing <= 200,
+            "body_with_handles: smoothing must be in 0..200, got " + std::to_string(o.smoothing));
+    // Handle slots on the top face (z = body, in cells): posts at (x, y) and (x + 2, y), the bar
+    // over x..x+2 one cell higher. Spread: a grid of columns 4 cells apart and rows 2 apart, in
+    // the middle of the face; in a row: side by side along y at x = 1, 2 cells apart.
+    const int n = o.handles;
+    const int cols = o.in_a_row ? 1 : std::max(1, static_cast<int>(std::ceil(std::sqrt(double(n)))));
+    const int rows = n == 0 ? 0 : (n + cols - 1) / cols;
+    const int body = std::max({o.body_cells, 4 * cols + 1, 2 * rows + 1});
+    std::vector<std::array<int, 2>> slots;
+    for (int k = 0; k < n; ++k) {
+        const int c = k % cols, r = k / cols;
+        if (o.in_a_row) {
+            slots.push_back({1, 1 + 2 * r});
+        } else {
+            // Centred: the grid spans 4 cols - 1 by 2 rows - 1 cells.
+            const int x0 = (body - (4 * cols - 1)) / 2, y0 = (body - (2 * rows - 1)) / 2;
+            slots.push_back({x0 + 4 * c, y0 + 2 * r});
+        }
+    }
+    const int res = o.resolution;
+    const std::int64_t estimate = 12LL * body * body * res * res + 40LL * n * res * res;
+    require(estimate <= kMaxTriangles, "body_with_handles: the options give too large a mesh");
+    const int nx = body * res, ny = body * res, nz = (body + 2) * res;
+    std::vector<char> cell(static_cast<size_t>(body) * body * (body + 2), 0);
+    auto cell_at = [&](int x, int y, int z) -> char& { return cell[(static_cast<size_t>(z) * body + y) * body + x]; };
+    for (int z = 0; z < body; ++z)
+        for (int y = 0; y < body; ++y)
+            for (int x = 0; x < body; ++x) cell_at(x, y, z) = 1;
+    for (const auto& [x, y] : slots) {
+        cell_at(x, y, body) = cell_at(x + 2, y, body) = 1;
+        for (int dx = 0; dx <= 2; ++dx) cell_at(x + dx, y, body + 1) = 1;
+    }
+    auto solid = [&](int i, int j, int k) {
+        return i >= 0 && j >= 0 && k >= 0 && i < nx && j < ny && k < nz && cell_at(i / res, j / res, k / res);
+    };
+    VoxelSurface surface(nx, ny, nz, res, static_cast<double>(body + 2));
+    for (int k = 0; k < nz; ++k)
+        for (int j = 0; j < ny; ++j)
+            for (int i = 0; i < nx; ++i) {
+                if (!solid(i, j, k)) continue;
+                if (!solid(i + 1, j, k)) surface.add_quad({i + 1, j, k}, kY, kZ);
+                if (!solid(i - 1, j, k)) surface.add_quad({i, j, k}, kZ, kY);
+                if (!solid(i, j + 1, k)) surface.add_quad({i, j + 1, k}, kZ, kX);
+                if (!solid(i, j - 1, k)) surface.add_quad({i, j, k}, kX, kZ);
+                if (!solid(i, j, k + 1)) surface.add_quad({i, j, k + 1}, kX, kY);
+                if (!solid(i, j, k - 1)) surface.add_quad({i, j, k}, kY, kX);
+            }
+    Mesh mesh = surface.take();
+    // The cube onto a ball: each point scaled along its ray from the body's centre by
+    // |q|_inf / |q|_2 (the cube's surface goes onto the inscribed sphere's radius). Injective along
+    // every ray, so the surface stays embedded; the handles on the top go along, about unchanged
+    // near the top's middle. The map's creases over the cube's diagonal planes are smoothed below.
+    const Vec3 centre{0.5 * body, 0.5 * body, 0.5 * body};
+    for (Vec3& p : mesh.points) {
+        const Vec3 q = p - centre;
+        const double inf = std::max({std::abs(q.x), std::abs(q.y), std::abs(q.z)}), two = norm(q);
+        if (two > 0) p = centre + q * (inf / two);
+    }
+    // Taubin smoothing (Taubin 1995): a shrinking step lambda and an inflating step mu per pass
+    // round the voxel steps off without shrinking the body.
+    std::vector<std::vector<int>> nbr(mesh.points.size());
+    for (const Triangle& t : mesh.triangles)
+        for (int e = 0; e < 3; ++e) nbr[t[e]].push_back(t[(e + 1) % 3]), nbr[t[(e + 1) % 3]].push_back(t[e]);
+    for (auto& v : nbr) {
+        std::sort(v.begin(), v.end());
+        v.erase(std::unique(v.begin(), v.end()), v.end());
+    }
+    std::vector<Vec3> next(mesh.points.size());
+    for (int pass = 0; pass < 2 * o.smoothing; ++pass) {
+        const double step = pass % 2 == 0 ? 0.5 : -0.53;
+        for (size_t v = 0; v < mesh.points.size(); ++v) {
+            Vec3 mean{};
+            for (int w : nbr[v]) mean += mesh.points[w];
+            mean = mean / static_cast<double>(nbr[v].size());
+            next[v] = mesh.points[v] + (mean - mesh.points[v]) * step;
+        }
+        mesh.points.swap(next);
     }
     return mesh;
 }

@@ -500,5 +500,33 @@ TEST(ShapesLimbs, ClosedGenusZeroDeterministicAndLimbsReachOut) {
     EXPECT_THROW(shapes::body_with_limbs(bad), InvalidInput);
 }
 
+TEST(ShapesHandles, ClosedManifoldOfTheGenusAskedDeterministicBigBodySmallHandles) {
+    for (bool row : {false, true})
+        for (int g : {0, 1, 2, 3, 5, 9}) {
+            shapes::HandleBodyOptions o;
+            o.handles = g;
+            o.in_a_row = row;
+            o.resolution = 2;
+            const Mesh m = shapes::body_with_handles(o);
+            const ValidationReport r = validate(m);
+            ASSERT_TRUE(r.quaddable()) << "genus " << g << (row ? " in a row: " : ": ") << r.error_summary();
+            ASSERT_EQ(r.components.size(), 1u);
+            EXPECT_EQ(r.components[0].genus, g) << (row ? "in a row" : "spread");
+            EXPECT_EQ(shapes::body_with_handles(o).points, m.points);
+            // The body is a ball at least 8 cells across (more when the handles need room); the
+            // handles stand at most two cells above its top: small against the body.
+            const BoundingBox box = bounding_box(m);
+            const double across = box.max.x - box.min.x, high = box.max.z - box.min.z;
+            EXPECT_GT(across, 7.5);
+            EXPECT_LT(high - across, 3.5) << "genus " << g;
+        }
+    shapes::HandleBodyOptions bad;
+    bad.handles = 65;
+    EXPECT_THROW(shapes::body_with_handles(bad), InvalidInput);
+    bad.handles = 1;
+    bad.resolution = 1;
+    EXPECT_THROW(shapes::body_with_handles(bad), InvalidInput);
+}
+
 }  // namespace
 }  // namespace quadcage

@@ -88,4 +88,28 @@ struct LimbOptions {
 /// \throw InvalidInput if the options are out of range.
 Mesh body_with_limbs(const LimbOptions& options = {});
 
+/// Options for body_with_handles().
+struct HandleBodyOptions {
+    int handles = 2;          ///< Handles, i.e. the genus, 0..64.
+    bool in_a_row = false;    ///< false: spread over the body's top; true: side by side along one
+                              ///< edge of it, the genus concentrated in one region.
+    int body_cells = 8;       ///< Side of the body in cells (a handle's bar is 1 cell thick): about
+                              ///< how many times larger than a handle the body is, 4..64. Raised
+                              ///< where the handles need more room.
+    int resolution = 3;       ///< Voxels per cell, 2..16.
+    int smoothing = 12;       ///< Taubin smoothing passes (lambda 0.5, mu -0.53) that round the voxels, 0..200.
+};
+
+/// A big smooth body with small handles, the shape class whose minimal layouts crowd their corners
+/// around the handles (issue 20): a cube of body_cells^3 unit cells with `handles` small loops on
+/// its top face, voxelised at `resolution` voxels a cell, mapped onto a ball (each point along its
+/// ray from the centre, by |q|_inf / |q|_2) and smoothed. Each handle is two 1-cell
+/// posts two cells apart joined by a 1-cell bar on top, so its hole is one cell wide and high; two
+/// handles are at least one cell apart, so no two voxels touch along an edge or a corner alone.
+/// The voxel solid's boundary (each voxel face 2 triangles) is closed, manifold and of genus
+/// `handles`; the map (injective along each ray) and Taubin smoothing move the points only.
+/// Deterministic.
+/// \throw InvalidInput if the options are out of range or the mesh would pass 1e8 triangles.
+Mesh body_with_handles(const HandleBodyOptions& options = {});
+
 }  // namespace quadcage::shapes

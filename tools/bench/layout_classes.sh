@@ -1,0 +1,62 @@
+#!/usr/bin/env bash
+# Issue 20's failure classes, generated (`quadcage generate`), each laid out and fitted by
+# `quadcage fit` and checked from outside: ../shared/tools/check_layout.py --quality (patch area
+# max/min, corner angle deviation on edge chords at 10% of their length) and check_fit.py (relative
+# RMS and Hausdorff of limit.ply). Classes:
+#   - long protrusions: `generate limbs` (genus 0, a cube over a figure with limbs);
+#   - a big smooth body with a few small handles: `generate handles -g G`;
+#   - genus concentrated in one region: `generate handles -g G --in-a-row`.
+# Fit level 3, level 4 for genus 0 and 1 (6- and 4-quad cages). Issue 20's targets on every row:
+# area max/min <= 4, fit RMS <= 1e-3 and Hausdorff <= 1e-2. The script reports; it asserts nothing.
+#   tools/bench/layout_classes.sh [BUILD_DIR]
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+build=${1:-build}
+qc="$build/quadcage"
+[ -x "$qc" ] || { echo "build first: $qc not found" >&2; exit 2; }
+[ -x ../shared/tools/check_layout.py ] || { echo "needs ../shared/tools/check_layout.py" >&2; exit 2; }
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+
+cases=(
+  "limbs seed 1|limbs --limbs 4 --seed 1 -r 4"
+  "limbs seed 20|limbs --limbs 5 --seed 20 -r 4"
+  "handles g1|handles -g 1 -r 3"
+  "handles g2|handles -g 2 -r 3"
+  "handles g3|handles -g 3 -r 3"
+  "handles g3 in a row|handles -g 3 -r 3 --in-a-row"
+  "handles g5 in a row|handles -g 5 -r 3 --in-a-row"
+)
+printf '| shape | triangles | genus | quads | level | area max/min | angle dev. mean (deg) | check_layout | RMS | Hausdorff | check_fit RMS / Hausdorff | layout s | fit s |\n'
+printf '|---|---:|---:|---:|---:|---:|---:|---|---:|---:|---|---:|---:|\n'
+for c in "${cases[@]}"; do
+  name=${c%%|*} args=${c#*|}
+  mesh="$work/${name// /_}.ply"
+  # shellcheck disable=SC2086
+  "$qc" generate $args -o "$mesh" >/dev/null
+  genus=$("$qc" info "$mesh" --json | python3 -c 'import json,sys; print(json.load(sys.stdin)["components"][0]["genus"])')
+  level=3
+  [ "$genus" -le 1 ] && level=4
+  out="$work/out_${name// /_}"
+  if ! "$qc" fit "$mesh" --level "$level" -q -o "$out" >"$work/log" 2>&1; then
+    printf '| %s | | %s | | %s | | | FAILED: %s | | | | | |\n' "$name" "$genus" "$level" "$(tail -1 "$work/log")"
+    continue
+  fi
+  check=PASS
+  ../shared/tools/check_layout.py --patches "$out/layout.ply" --cage "$out/cage.obj" --input "$mesh" --quality \
+    >"$work/check" 2>&1 || check="FAIL: $(grep FAIL "$work/check" | head -1)"
+  fitcheck=$(../shared/tools/check_fit.py --input "$mesh" --surface "$out/limit.ply" 2>/dev/null | grep '^{' | tail -1 || echo '{}')
+  python3 - "$out/report.json" "$work/check" "$name" "$check" "$fitcheck" <<'PY'
+import json, sys
+r = json.load(open(sys.argv[1]))
+q = json.loads([l for l in open(sys.argv[2]) if l.startswith('{')][-1])
+l = r['levels'][-1]
+f = json.loads(sys.argv[5])
+fc = '%.3g / %.3g' % (f['relative']['rms'], f['relative']['hausdorff']) if 'relative' in f else '?'
+tri = q['triangles'] - 2 * r['layout']['vertices_added']
+print('| %s | %d | %d | %d | %d | %.3g | %.1f | %s | %.3g | %.3g | %s | %.2f | %.2f |' % (
+    sys.argv[3], tri, r['genus'], r['quads'], l['level'], q['patch_area_max_over_min'],
+    q['corner_angle_mean_deviation_deg'], sys.argv[4], l['relative']['rms'], l['relative']['hausdorff'], fc,
+    r['seconds']['layout'], r['seconds']['fit']))
+PY
+done
