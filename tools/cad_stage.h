@@ -4,10 +4,10 @@
 
 #include <functional>
 #include <memory>
-#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
+#include "quadcage/cad/cad_export.h"
 #include "quadcage/core/output_dir.h"
 #include "quadcage/fit/fit.h"
 
@@ -33,8 +33,8 @@ public:
     /// Builds the patches and the solid, checks them and writes the files into staging. Throws
     /// InvalidInput when the tolerance cannot be met or the solid is not a valid closed solid.
     /// `irregular_level` is the fit's FitOptions::irregular_level (the depth to which OpenSubdiv's
-    /// surface is polynomial). Returns the export report (JSON object).
-    nlohmann::json write(const fit::FittedSurface& surface, double diagonal, int irregular_level,
+    /// surface is polynomial). Returns the export report.
+    cad::ExportReport write(const fit::FittedSurface& surface, double diagonal, int irregular_level,
                          const std::function<void(const std::string&)>& progress);
     /// Moves the files staged outside the primary directory in.
     void commit();
@@ -49,6 +49,6 @@ private:
 };
 
 /// Prints the summary lines of an export report.
-void print_cad_summary(const std::string& tag, const nlohmann::json& report);
+void print_cad_summary(const std::string& tag, const cad::ExportReport& report);
 
 }  // namespace quadcage::cli

@@ -197,13 +197,15 @@ int run_fit(const FitCommandOptions& o) {
         result = fit::fit_mesh_to_control_mesh(prepared, o.mesh, cage, o.cage, options);
     }
     // fit --step/--iges: the solid is built, checked and staged before anything is committed.
-    nlohmann::json cad_report;
+    cad::ExportReport cad_report;
     if (cad) {
         const fit::FitResult& f = result.fits[0];
         cad_report = cad->write(f.surface, f.levels.back().diagonal, options.irregular_level, progress.callback(""));
-        result.report.components[0].sections["cad"] = cad_report.dump();
+        result.report.components[0].sections["cad"] = cad_report.to_json();
     }
-    const fit::MeshFitReport written = fit::write_mesh_fit_outputs(out, prepared, result, progress.callback(""));
+    fit::LimitPlyOptions ply;
+    ply.max_error_relative = o.limit_max_error;
+    const fit::MeshFitReport written = fit::write_mesh_fit_outputs(out, prepared, result, progress.callback(""), ply);
     out.commit();  // a tolerance not met is reported, not an error
     if (cad) cad->commit();
     if (o.json) std::cout << (nc == 1 ? written.components[0].to_json() : written.to_json());

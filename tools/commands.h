@@ -39,6 +39,7 @@ struct FitCommandOptions {
     int max_level = 5;        ///< --max-level with --tolerance.
     std::string cage;         ///< --cage CAGE: fit this control mesh instead of building a layout.
     std::string solver = "direct";  ///< --solver: direct or ceres (fit::FitSolver).
+    double limit_max_error = 0;     ///< --limit-max-error R: limit.ply within R of the diagonal everywhere measured.
     std::string step;         ///< --step FILE: also export the fitted surface as a STEP solid.
     std::string iges;         ///< --iges FILE: ... and/or as IGES.
     double cad_tolerance = 1e-5;  ///< --cad-tolerance T (relative to the diagonal).

@@ -1,11 +1,13 @@
 // `quadcage export DIR` and the CAD files of `fit --step/--iges` (issue 22).
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "cad_stage.h"
@@ -170,8 +172,8 @@ std::string CadStage::staged(const std::string& file) {
     throw InternalError("CAD file " + file + " was not expected");
 }
 
-json CadStage::write(const fit::FittedSurface& surface, double diagonal, int irregular_level,
-                     const std::function<void(const std::string&)>& progress) {
+cad::ExportReport CadStage::write(const fit::FittedSurface& surface, double diagonal, int irregular_level,
+                                  const std::function<void(const std::string&)>& progress) {
     const auto t0 = std::chrono::steady_clock::now();
     fit::BSplinePatchOptions po;
     po.tolerance = files_.tolerance;
@@ -179,7 +181,8 @@ json CadStage::write(const fit::FittedSurface& surface, double diagonal, int irr
     po.polynomial_depth = irregular_level;
     if (progress) progress("CAD: B-spline patches of the limit surface");
     const fit::BSplinePatches patches = fit::bspline_patches(surface, po);
-    const double patch_seconds = seconds_since(t0);
+    cad::ExportReport report;
+    report.patch_seconds = seconds_since(t0);
     if (!patches.tolerance_met) {
         char t[32];
         std::snprintf(t, sizeof t, "%g", files_.tolerance);
@@ -187,13 +190,10 @@ json CadStage::write(const fit::FittedSurface& surface, double diagonal, int irr
     }
     if (progress) progress("CAD: sewing " + std::to_string(patches.patches.size()) + " faces into a solid");
     const cad::Solid solid = cad::make_solid(patches);
-    const cad::SolidReport& sr = solid.report();
-    if (!sr.closed || !sr.valid) throw InternalError("CAD export: " + sr.message);
-    json report = json::parse(sr.to_json());
-    report["patch_seconds"] = patch_seconds;
-    report["exactness"] = patches.measurement.exactness;
-    report["deviation_samples"] = patches.measurement.samples;
-    json written = json::object();
+    report.solid = solid.report();
+    if (!report.solid.closed || !report.solid.valid) throw InternalError("CAD export: " + report.solid.message);
+    report.exactness = patches.measurement.exactness;
+    report.deviation_samples = patches.measurement.samples;
     for (const auto& [file, kind] : {std::pair{files_.step, "step"}, std::pair{files_.iges, "iges"}}) {
         if (file.empty()) continue;
         if (progress) progress(std::string("CAD: writing ") + file);
@@ -203,10 +203,9 @@ json CadStage::write(const fit::FittedSurface& surface, double diagonal, int irr
         else
             cad::write_iges(solid, at);
         std::error_code ec;
-        written[kind] = {{"path", file}, {"bytes", static_cast<long long>(fs::file_size(at, ec))}};
+        report.files.push_back({kind, file, static_cast<long long>(fs::file_size(at, ec))});
     }
-    report["files"] = written;
-    report["total_seconds"] = seconds_since(t0);
+    report.total_seconds = seconds_since(t0);
     return report;
 }
 
@@ -214,28 +213,29 @@ void CadStage::commit() {
     for (auto& [d, out] : others_) out->commit();
 }
 
-void print_cad_summary(const std::string& tag, const json& r) {
-    const double d = r["diagonal"].get<double>();
-    std::printf("%sCAD: %s, %d faces, %d edges, %d vertices (%s); area %.9g, volume %.9g\n", tag.c_str(),
-                r["verdict"].get<std::string>().c_str(), r["faces"].get<int>(), r["edges"].get<int>(),
-                r["vertices"].get<int>(), r["valid"].get<bool>() ? "BRepCheck: valid" : "BRepCheck: invalid",
-                r["area"].get<double>(), r["volume"].get<double>());
+void print_cad_summary(const std::string& tag, const cad::ExportReport& report) {
+    const cad::SolidReport& r = report.solid;
+    const double d = r.diagonal > 0 ? r.diagonal : 1;
+    const char* verdict = r.valid && r.closed ? "valid closed solid"
+                                              : (r.closed ? "closed but invalid (BRepCheck_Analyzer)" : "not closed");
+    std::printf("%sCAD: %s, %d faces, %d edges, %d vertices (%s); area %.9g, volume %.9g\n", tag.c_str(), verdict,
+                r.faces, r.edges, r.vertices, r.valid ? "BRepCheck: valid" : "BRepCheck: invalid", r.area, r.volume);
     std::printf(
         "%sCAD: max deviation from the limit surface %.3g (%.3g of the diagonal; polynomial cells %.3g, "
         "corner cells %.3g), "
         "knot depth %d\n",
-        tag.c_str(), r["max_deviation"].get<double>(), r["max_deviation"].get<double>() / d,
-        r["max_deviation_regular"].get<double>() / d, r["max_deviation_corner"].get<double>() / d,
-        r["knot_depth"].get<int>());
+        tag.c_str(), r.max_deviation, r.max_deviation / d, r.max_deviation_regular / d, r.max_deviation_corner / d,
+        r.depth);
     std::printf(
         "%sCAD: max normal jump %.3g deg away from corners, %.3g deg in corner cells; sewing tolerance %.3g; "
         "%.2f s\n",
-        tag.c_str(), r["max_normal_jump_deg"]["regular"].get<double>(),
-        r["max_normal_jump_deg"]["corner"].get<double>(), r["sewing_tolerance"].get<double>(),
-        r["total_seconds"].get<double>());
-    for (const auto& [kind, f] : r["files"].items())
-        std::printf("%sCAD: wrote %s (%lld bytes)\n", tag.c_str(), f["path"].get<std::string>().c_str(),
-                    f["bytes"].get<long long>());
+        tag.c_str(), r.max_normal_jump_regular_deg, r.max_normal_jump_corner_deg, r.sewing_tolerance,
+        report.total_seconds);
+    // export.json lists the files by kind (sorted keys): the same order here.
+    std::vector<cad::ExportReport::File> files = report.files;
+    std::sort(files.begin(), files.end(), [](const auto& a, const auto& b) { return a.kind < b.kind; });
+    for (const auto& f : files)
+        std::printf("%sCAD: wrote %s (%lld bytes)\n", tag.c_str(), f.path.c_str(), f.bytes);
 }
 
 int run_export(const ExportOptions& o) {
@@ -257,15 +257,15 @@ int run_export(const ExportOptions& o) {
     OutputDir out(o.dir);
     out.expect({"export.json"}, inputs);
     CadStage stage(files, &out, o.dir, inputs);
-    json report = stage.write(surface, diagonal, irregular_level, say);
-    report["command"] = "export";
-    report["fit"] = o.dir;
-    report["level"] = surface.level();
-    write_text_file(out.path("export.json"), report.dump(2) + "\n");
+    cad::ExportReport report = stage.write(surface, diagonal, irregular_level, say);
+    report.fit_dir = o.dir;
+    report.level = surface.level();
+    const std::string text = report.to_json(2) + "\n";
+    write_text_file(out.path("export.json"), text);
     out.commit();
     stage.commit();
     if (o.json)
-        std::cout << report.dump(2) << "\n";
+        std::cout << text;
     else
         print_cad_summary("", report);
     return kOk;

@@ -95,6 +95,11 @@ int main(int argc, char** argv) {
                         "equations by CHOLMOD, analysed once per level) or ceres (one Levenberg-Marquardt step of\n"
                         "Ceres per round; the same fit up to rounding, several times slower)")
         ->check(CLI::IsMember({"direct", "ceres"}));
+    fit_cmd->add_option("--limit-max-error", fitopt.limit_max_error,
+                        "Tessellate limit.ply finely enough that its measured largest distance to the limit\n"
+                        "surface is at most R of the bounding-box diagonal (default: only its RMS distance is\n"
+                        "held below 10% of the fit's RMS)")
+        ->check(CLI::Range(1e-9, 1.0));
     fit_cmd->add_flag("--json", fitopt.json, "Print report.json instead of the summary");
     fit_cmd->add_option("--step", fitopt.step,
                         "Also export the fitted surface as a closed B-spline solid in this STEP file (AP214),\n"

@@ -10,6 +10,7 @@
 //   4. write the control mesh to OUTDIR/control_mesh.obj (its Catmull-Clark limit is the surface).
 // Exit codes as the CLI's: 0 ok, 2 bad usage, 3 invalid input, 1 anything else.
 
+#include <cmath>
 #include <cstdio>
 #include <exception>
 #include <filesystem>
@@ -25,7 +26,11 @@
 
 namespace {
 
-constexpr int kSamplesPerSide = 4;  // evaluation grid per control face: 4 x 4 cell centres
+constexpr int kSamplesPerSide = 4;  // evaluation grid per control face: 4 x 4 points, one per cell
+// Where in its cell each point lies: an irrational fraction, so that no point falls on a vertex of a
+// uniform tessellation of the face (limit.ply's), where a check against the tessellation would
+// measure nothing.
+const double kCellOffset = 0.5 / std::sqrt(2.0);
 
 int run(const std::string& mesh_path, const std::string& out_dir, int level) {
     namespace fit = quadcage::fit;
@@ -49,7 +54,7 @@ int run(const std::string& mesh_path, const std::string& out_dir, int level) {
     const fit::FittedSurface& surface = result.fit.surface;
     const quadcage::subdiv::QuadMesh& control = surface.control_mesh();
 
-    // 3. Positions and unit normals at cell centres of a grid on every control face. (u, v) are the
+    // 3. Positions and unit normals at a grid of points on every control face. (u, v) are the
     //    face's own parameters in [0, 1]^2; the normal is du x dv normalised, outward.
     std::filesystem::create_directories(out_dir);
     const std::string csv_path = (std::filesystem::path(out_dir) / "points.csv").string();
@@ -59,7 +64,7 @@ int run(const std::string& mesh_path, const std::string& out_dir, int level) {
     for (int f = 0; f < control.num_quads(); ++f)
         for (int i = 0; i < kSamplesPerSide; ++i)
             for (int j = 0; j < kSamplesPerSide; ++j) {
-                const double u = (i + 0.5) / kSamplesPerSide, v = (j + 0.5) / kSamplesPerSide;
+                const double u = (i + kCellOffset) / kSamplesPerSide, v = (j + kCellOffset) / kSamplesPerSide;
                 const quadcage::subdiv::FacePoint p{f, u, v};
                 const quadcage::subdiv::LimitPoint s = surface.evaluate(p);
                 csv << p.face << ',' << p.u << ',' << p.v << ',' << s.position.x << ',' << s.position.y << ','

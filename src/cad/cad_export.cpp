@@ -120,38 +120,66 @@ std::string SolidOptions::validate() const {
     return {};
 }
 
+namespace {
+
+// The fields of a SolidReport, into an ordered (SolidReport::to_json) or sorted (ExportReport) object.
+template <class Json>
+void put_solid(const SolidReport& r, Json& j) {
+    const double d = r.diagonal > 0 ? r.diagonal : 1;
+    j["faces"] = r.faces;
+    j["edges"] = r.edges;
+    j["vertices"] = r.vertices;
+    j["shells"] = r.shells;
+    j["solids"] = r.solids;
+    j["free_edges"] = r.free_edges;
+    j["closed"] = r.closed;
+    j["valid"] = r.valid;
+    j["verdict"] = r.valid && r.closed ? "valid closed solid"
+                                       : (r.closed ? "closed but invalid (BRepCheck_Analyzer)" : "not closed");
+    j["sewing_tolerance"] = r.sewing_tolerance;
+    j["max_tolerance"] = r.max_tolerance;
+    j["area"] = r.area;
+    j["volume"] = r.volume;
+    j["knot_depth"] = r.depth;
+    j["knots_per_direction"] = r.knots;
+    j["diagonal"] = r.diagonal;
+    j["tolerance"] = r.tolerance;
+    j["relative_tolerance"] = r.tolerance / d;
+    j["max_deviation"] = r.max_deviation;
+    j["relative_max_deviation"] = r.max_deviation / d;
+    j["max_deviation_regular"] = r.max_deviation_regular;
+    j["max_deviation_corner"] = r.max_deviation_corner;
+    j["max_normal_jump_deg"] = {{"regular", r.max_normal_jump_regular_deg},
+                                {"corner", r.max_normal_jump_corner_deg}};
+    j["seconds"] = r.seconds;
+    j["stage_seconds"] = {
+        {"sewing", r.sewing_seconds}, {"check", r.check_seconds}, {"properties", r.properties_seconds}};
+    j["message"] = r.message;
+}
+
+}  // namespace
+
 std::string SolidReport::to_json(int indent) const {
     nlohmann::ordered_json j;
-    const double d = diagonal > 0 ? diagonal : 1;
-    j["faces"] = faces;
-    j["edges"] = edges;
-    j["vertices"] = vertices;
-    j["shells"] = shells;
-    j["solids"] = solids;
-    j["free_edges"] = free_edges;
-    j["closed"] = closed;
-    j["valid"] = valid;
-    j["verdict"] = valid && closed ? "valid closed solid"
-                                   : (closed ? "closed but invalid (BRepCheck_Analyzer)" : "not closed");
-    j["sewing_tolerance"] = sewing_tolerance;
-    j["max_tolerance"] = max_tolerance;
-    j["area"] = area;
-    j["volume"] = volume;
-    j["knot_depth"] = depth;
-    j["knots_per_direction"] = knots;
-    j["diagonal"] = diagonal;
-    j["tolerance"] = tolerance;
-    j["relative_tolerance"] = tolerance / d;
-    j["max_deviation"] = max_deviation;
-    j["relative_max_deviation"] = max_deviation / d;
-    j["max_deviation_regular"] = max_deviation_regular;
-    j["max_deviation_corner"] = max_deviation_corner;
-    j["max_normal_jump_deg"] = {{"regular", max_normal_jump_regular_deg},
-                                {"corner", max_normal_jump_corner_deg}};
-    j["seconds"] = seconds;
-    j["stage_seconds"] = {
-        {"sewing", sewing_seconds}, {"check", check_seconds}, {"properties", properties_seconds}};
-    j["message"] = message;
+    put_solid(*this, j);
+    return j.dump(indent);
+}
+
+std::string ExportReport::to_json(int indent) const {
+    nlohmann::json j;
+    put_solid(solid, j);
+    j["patch_seconds"] = patch_seconds;
+    j["exactness"] = exactness;
+    j["deviation_samples"] = deviation_samples;
+    nlohmann::json written = nlohmann::json::object();
+    for (const File& f : files) written[f.kind] = {{"path", f.path}, {"bytes", f.bytes}};
+    j["files"] = written;
+    j["total_seconds"] = total_seconds;
+    if (!fit_dir.empty()) {
+        j["command"] = "export";
+        j["fit"] = fit_dir;
+        j["level"] = level;
+    }
     return j.dump(indent);
 }
 

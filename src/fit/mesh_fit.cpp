@@ -136,7 +136,8 @@ std::vector<std::string> fit_output_names(size_t components, bool with_layout) {
 }
 
 MeshFitReport write_mesh_fit_outputs(OutputDir& out, const PreparedMesh& prepared, const MeshFit& fit,
-                                     const std::function<void(const std::string&)>& progress) {
+                                     const std::function<void(const std::string&)>& progress,
+                                     const LimitPlyOptions& ply_options) {
     const size_t nc = prepared.components.size();
     if (fit.fits.size() != nc || fit.report.components.size() != nc || (!fit.layouts.empty() && fit.layouts.size() != nc))
         throw InvalidInput("write_mesh_fit_outputs: the fit has " + std::to_string(fit.fits.size()) +
@@ -146,7 +147,7 @@ MeshFitReport write_mesh_fit_outputs(OutputDir& out, const PreparedMesh& prepare
         const std::string dir = out.folder(layout::component_dir(c, nc));
         if (!fit.layouts.empty()) layout::write_layout_files(dir, fit.layouts[c], nullptr);
         if (progress) progress(layout::component_tag(c, nc) + "writing the fitted surface");
-        const FitOutputs files = write_fit_files(dir, prepared.components[c], fit.fits[c]);
+        const FitOutputs files = write_fit_files(dir, prepared.components[c], fit.fits[c], ply_options);
         ComponentFitReport& r = written.components[c];
         r.fit.limit_tessellation = files.tessellation;
         r.peak_memory_mib = peak_memory_mib();

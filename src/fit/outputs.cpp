@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <cstdio>
 #include <filesystem>
 
@@ -31,6 +32,7 @@ long long max_segments(const FittedSurface& surface, long long max_triangles) {
 
 std::string LimitPlyOptions::validate() const {
     if (!(error_fraction > 0 && error_fraction <= 1)) return "error_fraction must be in (0, 1]";
+    if (!(max_error_relative >= 0) || !std::isfinite(max_error_relative)) return "max_error_relative must be finite and >= 0";
     if (max_triangles < 2) return "max_triangles must be >= 2";
     if (min_segments < 1) return "min_segments must be >= 1";
     if (estimate_faces < 1 || estimate_points_per_face < 1) return "estimate_faces and estimate_points_per_face must be >= 1";
@@ -72,26 +74,32 @@ TessellationChoice tessellation_error(const FittedSurface& surface, int segments
     return c;
 }
 
-TessellationChoice choose_tessellation(const FittedSurface& surface, double fit_rms, const LimitPlyOptions& options) {
+TessellationChoice choose_tessellation(const FittedSurface& surface, double fit_rms, const LimitPlyOptions& options,
+                                       double diagonal) {
     if (!(fit_rms > 0) || !std::isfinite(fit_rms))
         throw InvalidInput("choose_tessellation: the fit RMS must be positive and finite");
+    if (options.max_error_relative > 0 && !(diagonal > 0 && std::isfinite(diagonal)))
+        throw InvalidInput("choose_tessellation: max_error_relative needs the diagonal");
     const double target = options.error_fraction * fit_rms;
+    const double max_target = options.max_error_relative > 0 ? options.max_error_relative * diagonal
+                                                             : std::numeric_limits<double>::infinity();
+    auto ok = [&](const TessellationChoice& c) { return c.rms_error <= target && c.max_error <= max_target; };
     const int cap = static_cast<int>(std::min<long long>(max_segments(surface, options.max_triangles), 1 << 14));
     int n = std::min(cap, std::max(options.min_segments, 4));
     TessellationChoice c = tessellation_error(surface, n, options);
     // Chord error falls like 1/n^2: jump to the predicted n, then re-measure (a few times at most).
-    for (int attempt = 0; attempt < 6 && c.rms_error > target && n < cap; ++attempt) {
-        const double factor = std::sqrt(c.rms_error / target) * 1.05;
+    for (int attempt = 0; attempt < 6 && !ok(c) && n < cap; ++attempt) {
+        const double factor = std::sqrt(std::max(c.rms_error / target, c.max_error / max_target)) * 1.05;
         n = std::min(cap, std::max(n + 1, static_cast<int>(std::ceil(n * factor))));
         c = tessellation_error(surface, n, options);
     }
     // The prediction may overshoot by one step.
-    if (c.rms_error <= target && n > options.min_segments) {
+    if (ok(c) && n > options.min_segments) {
         const TessellationChoice coarser = tessellation_error(surface, n - 1, options);
-        if (coarser.rms_error <= target) c = coarser;
+        if (ok(coarser)) c = coarser;
     }
     c.target = target;
-    c.met = c.rms_error <= target;
+    c.met = ok(c);
     return c;
 }
 
@@ -164,7 +172,8 @@ FitOutputs write_fit_files(const std::string& dir, const Mesh& input, const FitR
     if (result.fitted_cage.faces.empty()) write_quad_obj(cage, result.surface.control_mesh());
     else write_polygon_obj(cage, result.fitted_cage);
     out.files.push_back(cage);
-    out.tessellation = choose_tessellation(result.surface, result.levels.back().absolute.rms, ply_options);
+    out.tessellation = choose_tessellation(result.surface, result.levels.back().absolute.rms, ply_options,
+                                           result.levels.back().diagonal);
     write_limit_ply(limit, input, result.surface, out.tessellation, ply_options.threads);
     out.files.push_back(limit);
     write_deviation_ply(deviation, input, result.surface, ply_options.threads);

@@ -377,6 +377,15 @@ TEST(FitOutputs, TessellationErrorFallsQuadratically) {
     EXPECT_LE(c.rms_error, c.target);
     EXPECT_GT(c.segments, 4);
     EXPECT_THROW(choose_tessellation(r.surface, 0.0), InvalidInput);
+    // A bound on the max error too: finer than the RMS target alone, and the bound holds.
+    LimitPlyOptions bounded;
+    const double diagonal = r.levels.back().diagonal;
+    bounded.max_error_relative = 0.25 * c.max_error / diagonal;
+    const TessellationChoice d = choose_tessellation(r.surface, a.rms_error, bounded, diagonal);
+    EXPECT_TRUE(d.met);
+    EXPECT_LE(d.max_error, bounded.max_error_relative * diagonal);
+    EXPECT_GT(d.segments, c.segments);
+    EXPECT_THROW(choose_tessellation(r.surface, a.rms_error, bounded), InvalidInput);  // no diagonal
 }
 
 TEST(FitOutputs, QuadObjAndReportWithoutTessellation) {

@@ -51,6 +51,28 @@ struct SolidReport {
     std::string to_json(int indent = 2) const;
 };
 
+/// The report of one export (`quadcage export`, `fit --step/--iges`): the solid's, the patches'
+/// and the files written.
+struct ExportReport {
+    SolidReport solid;
+    double patch_seconds = 0;          ///< fit::bspline_patches().
+    double exactness = 0;              ///< fit::BSplinePatches::measurement.exactness.
+    long long deviation_samples = 0;   ///< fit::BSplinePatches::measurement.samples.
+    struct File {
+        std::string kind;              ///< "step" or "iges".
+        std::string path;              ///< As the user named it.
+        long long bytes = 0;
+    };
+    std::vector<File> files;           ///< In the order written.
+    double total_seconds = 0;          ///< Patches, solid and files.
+    std::string fit_dir;               ///< `quadcage export`: the fit's directory (empty inside fit's report).
+    int level = -1;                    ///< With fit_dir: the fitted level.
+    /// A JSON object, keys sorted: the solid's fields (SolidReport::to_json()), patch_seconds,
+    /// exactness, deviation_samples, files {kind: {path, bytes}}, total_seconds and, with fit_dir,
+    /// command ("export"), fit and level.
+    std::string to_json(int indent = 2) const;
+};
+
 /// A B-rep solid held by OpenCASCADE (opaque here). Movable, not copyable.
 class Solid {
 public:

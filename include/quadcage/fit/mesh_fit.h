@@ -97,7 +97,9 @@ std::vector<std::string> fit_output_names(size_t components, bool with_layout);
 /// \pre fit comes from fit_mesh() or fit_mesh_to_control_mesh() on `prepared`.
 /// \throw InvalidInput (naming the path) if a file cannot be written or fit does not match
 ///        prepared; InternalError if a report holds a non-finite number.
+/// `ply_options` chooses limit.ply's tessellation (write_fit_files()).
 MeshFitReport write_mesh_fit_outputs(OutputDir& out, const PreparedMesh& prepared, const MeshFit& fit,
-                                     const std::function<void(const std::string&)>& progress = {});
+                                     const std::function<void(const std::string&)>& progress = {},
+                                     const LimitPlyOptions& ply_options = {});
 
 }  // namespace quadcage::fit

@@ -15,6 +15,9 @@ namespace quadcage::fit {
 struct LimitPlyOptions {
     double error_fraction = 0.1;          ///< Tessellation RMS error must be below this fraction of the
                                           ///< fit's absolute symmetric RMS, in (0, 1].
+    double max_error_relative = 0;        ///< If > 0: the largest measured |tessellation - limit| must
+                                          ///< also be below this fraction of the bounding-box diagonal
+                                          ///< (for checks of points on the limit surface against limit.ply).
     long long max_triangles = 20000000;   ///< Upper bound on the tessellation size, >= 2 * faces.
     int min_segments = 2;                 ///< Fewest segments per face side, >= 1.
     int estimate_faces = 512;             ///< Faces (evenly spread) on which the error is estimated, >= 1.
@@ -41,9 +44,12 @@ struct TessellationChoice {
 TessellationChoice tessellation_error(const FittedSurface& surface, int segments, const LimitPlyOptions& options = {});
 
 /// The coarsest uniform tessellation (error ~ 1/segments^2, refined until measured) whose RMS error
-/// is at most options.error_fraction * fit_rms, within options.max_triangles.
-/// \throw InvalidInput if fit_rms is not positive and finite, options are invalid or the surface is empty.
-TessellationChoice choose_tessellation(const FittedSurface& surface, double fit_rms, const LimitPlyOptions& options = {});
+/// is at most options.error_fraction * fit_rms and, with options.max_error_relative > 0, whose
+/// measured max error is at most options.max_error_relative * diagonal, within options.max_triangles.
+/// \throw InvalidInput if fit_rms is not positive and finite, options are invalid, the surface is
+///        empty, or max_error_relative > 0 without a positive diagonal.
+TessellationChoice choose_tessellation(const FittedSurface& surface, double fit_rms, const LimitPlyOptions& options = {},
+                                       double diagonal = 0);
 
 /// Writes a quad mesh as OBJ (`v` with 17 significant digits, `f` with 4 one-based indices).
 /// \throw InvalidInput (naming path) if the file cannot be written.
