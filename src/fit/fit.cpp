@@ -366,17 +366,14 @@ double update_correspondences(const subdiv::LimitSurface& surface, std::vector<D
     const int n = static_cast<int>(data->size());
     std::vector<Vec3> points(n);
     for (int i = 0; i < n; ++i) points[i] = (*data)[i].p;
-    auto dist2 = [&](const subdiv::FacePoint& c, const Vec3& p) {
-        const Vec3 r = surface.evaluate(c).position - p;
-        return dot(r, r);
-    };
     // The local walks first: their distances bound the global search.
     std::vector<double> d2(n, std::numeric_limits<double>::infinity()), limit(n);
     parallel_for(n, threads, [&](int i) {
         DataPoint& d = (*data)[i];
         if (d.c.face >= 0) {
-            d.c = surface.project(d.p, d.c);
-            d2[i] = dist2(d.c, d.p);
+            const subdiv::LimitSurface::Projection local = surface.project_with_distance(d.p, d.c);
+            d.c = local.foot;
+            d2[i] = local.distance2;
         }
         limit[i] = std::sqrt(d2[i]);
     });
@@ -389,9 +386,9 @@ double update_correspondences(const subdiv::LimitSurface& surface, std::vector<D
     parallel_for(n, threads, [&](int i) {
         if (seeds[i].triangle < 0 || !(seeds[i].distance * seeds[i].distance < d2[i])) return;
         DataPoint& d = (*data)[i];
-        const subdiv::FacePoint global = surface.project(d.p, projector.param_of(seeds[i].triangle, seeds[i].barycentric));
-        const double g2 = dist2(global, d.p);
-        if (g2 < d2[i]) d.c = global, d2[i] = g2;
+        const subdiv::LimitSurface::Projection global =
+            surface.project_with_distance(d.p, projector.param_of(seeds[i].triangle, seeds[i].barycentric));
+        if (global.distance2 < d2[i]) d.c = global.foot, d2[i] = global.distance2;
     });
     double sum = 0;
     for (double x : d2) sum += x;

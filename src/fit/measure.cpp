@@ -32,11 +32,16 @@ subdiv::FacePoint SurfaceProjector::param_of(int triangle, const std::array<doub
     return {f, std::clamp(u / n, 0.0, 1.0), std::clamp(v / n, 0.0, 1.0)};
 }
 
-std::vector<subdiv::FacePoint> SurfaceProjector::project(const std::vector<Vec3>& points) const {
+std::vector<subdiv::FacePoint> SurfaceProjector::project(const std::vector<Vec3>& points,
+                                                         std::vector<double>* distances) const {
     const std::vector<accel::ClosestHit> hits = index_.query_all(points, threads_);
     std::vector<subdiv::FacePoint> out(points.size());
+    if (distances) distances->assign(points.size(), 0.0);
     parallel_for(static_cast<int>(points.size()), threads_, [&](int i) {
-        out[i] = surface_.project(points[i], param_of(hits[i].triangle, hits[i].barycentric));
+        const subdiv::LimitSurface::Projection p =
+            surface_.project_with_distance(points[i], param_of(hits[i].triangle, hits[i].barycentric));
+        out[i] = p.foot;
+        if (distances) (*distances)[i] = std::sqrt(p.distance2);
     });
     return out;
 }
@@ -75,12 +80,10 @@ ErrorMeasurement measure(const Mesh& mesh, const accel::ClosestPointIndex& mesh_
     for (size_t i = 0; i < input.size(); ++i) input_points[i] = input[i].point;
     t.evaluation += seconds_since(clock);
     clock = std::chrono::steady_clock::now();
-    const std::vector<subdiv::FacePoint> feet = projector.project(input_points);
+    std::vector<double> d_in;  // the projection's own distances: no second evaluation of each foot
+    projector.project(input_points, &d_in);
     t.closest_points += seconds_since(clock);
     clock = std::chrono::steady_clock::now();
-    std::vector<double> d_in(input.size());
-    parallel_for(static_cast<int>(input.size()), options.threads,
-                 [&](int i) { d_in[i] = norm(surface.evaluate(feet[i]).position - input_points[i]); });
 
     // Surface -> input: area samples of the tessellation evaluated on the exact surface, and the
     // tessellation's vertices.
@@ -143,10 +146,8 @@ std::vector<double> distances_to_surface(const FittedSurface& surface, const std
     if (search_segments < 1) throw InvalidInput("distances_to_surface: search_segments must be >= 1");
     const detail::SurfaceProjector projector(surface.limit(), detail::face_segments(search_segments, surface.search_level()),
                                              threads);
-    const std::vector<subdiv::FacePoint> feet = projector.project(points);  // throws on non-finite points
-    std::vector<double> out(points.size());
-    parallel_for(static_cast<int>(points.size()), threads,
-                 [&](int i) { out[i] = norm(surface.limit().evaluate(feet[i]).position - points[i]); });
+    std::vector<double> out;
+    projector.project(points, &out);  // throws on non-finite points
     return out;
 }
 

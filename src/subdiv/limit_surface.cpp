@@ -225,6 +225,10 @@ FacePoint LimitSurface::wrap(const FacePoint& p) const {
 }
 
 FacePoint LimitSurface::project(const Vec3& q, const FacePoint& start, int iterations) const {
+    return project_with_distance(q, start, iterations).foot;
+}
+
+LimitSurface::Projection LimitSurface::project_with_distance(const Vec3& q, const FacePoint& start, int iterations) const {
     FacePoint p = wrap(start);
     LimitPoint e = evaluate(p);
     double best = dot(e.position - q, e.position - q);
@@ -257,7 +261,7 @@ FacePoint LimitSurface::project(const Vec3& q, const FacePoint& start, int itera
         }
         if (!improved || std::hypot(du, dv) < 1e-12) break;
     }
-    return p;
+    return {p, best};
 }
 
 LimitTessellation LimitSurface::tessellate(int n) const {

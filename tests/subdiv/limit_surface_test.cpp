@@ -152,6 +152,12 @@ TEST(SubdivLimitSurface, ProjectFindsTheFootPoint) {
             const FacePoint found = surface.project(q, start, 30);
             const LimitPoint f = surface.evaluate(found);
             EXPECT_NEAR(norm(f.position - q), 0.01, 1e-6) << name << " face " << p.face;
+            // The same foot with the distance it ends at, exactly that of the foot evaluated again.
+            const LimitSurface::Projection with = surface.project_with_distance(q, start, 30);
+            EXPECT_EQ(with.foot.face, found.face);
+            EXPECT_EQ(with.foot.u, found.u);
+            EXPECT_EQ(with.foot.v, found.v);
+            EXPECT_EQ(with.distance2, dot(f.position - q, f.position - q));
         }
     }
 }

@@ -104,6 +104,15 @@ public:
     /// `iterations` bounds the steps. \throw as evaluate().
     FacePoint project(const Vec3& q, const FacePoint& start, int iterations = 12) const;
 
+    /// A foot of project() and |S(foot) - q|^2 there (the value project() compared, so a caller
+    /// need not evaluate the foot again).
+    struct Projection {
+        FacePoint foot;
+        double distance2 = 0;
+    };
+    /// project(), with the squared distance it ends at. \throw as evaluate().
+    Projection project_with_distance(const Vec3& q, const FacePoint& start, int iterations = 12) const;
+
     /// The dense tessellation (n >= 1 segments per face side) with the current points.
     /// \throw InvalidInput if n < 1 or the result would exceed 2^30 triangles.
     LimitTessellation tessellate(int n) const;

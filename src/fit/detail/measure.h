@@ -14,8 +14,9 @@ namespace quadcage::fit::detail {
 class SurfaceProjector {
 public:
     SurfaceProjector(const subdiv::LimitSurface& surface, int segments, int threads);
-    /// The surface point closest to each of `points` (parallel; deterministic).
-    std::vector<subdiv::FacePoint> project(const std::vector<Vec3>& points) const;
+    /// The surface point closest to each of `points` (parallel; deterministic); with `distances`,
+    /// also each point's distance to it.
+    std::vector<subdiv::FacePoint> project(const std::vector<Vec3>& points, std::vector<double>* distances = nullptr) const;
     const subdiv::LimitTessellation& tessellation() const { return tessellation_; }
     /// The Embree index of the tessellation (the seeds of project()).
     const accel::ClosestPointIndex& index() const { return index_; }
