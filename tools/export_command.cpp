@@ -216,9 +216,7 @@ void CadStage::commit() {
 void print_cad_summary(const std::string& tag, const cad::ExportReport& report) {
     const cad::SolidReport& r = report.solid;
     const double d = r.diagonal > 0 ? r.diagonal : 1;
-    const char* verdict = r.valid && r.closed ? "valid closed solid"
-                                              : (r.closed ? "closed but invalid (BRepCheck_Analyzer)" : "not closed");
-    std::printf("%sCAD: %s, %d faces, %d edges, %d vertices (%s); area %.9g, volume %.9g\n", tag.c_str(), verdict,
+    std::printf("%sCAD: %s, %d faces, %d edges, %d vertices (%s); area %.9g, volume %.9g\n", tag.c_str(), r.verdict(),
                 r.faces, r.edges, r.vertices, r.valid ? "BRepCheck: valid" : "BRepCheck: invalid", r.area, r.volume);
     std::printf(
         "%sCAD: max deviation from the limit surface %.3g (%.3g of the diagonal; polynomial cells %.3g, "

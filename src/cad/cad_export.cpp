@@ -134,8 +134,7 @@ void put_solid(const SolidReport& r, Json& j) {
     j["free_edges"] = r.free_edges;
     j["closed"] = r.closed;
     j["valid"] = r.valid;
-    j["verdict"] = r.valid && r.closed ? "valid closed solid"
-                                       : (r.closed ? "closed but invalid (BRepCheck_Analyzer)" : "not closed");
+    j["verdict"] = r.verdict();
     j["sewing_tolerance"] = r.sewing_tolerance;
     j["max_tolerance"] = r.max_tolerance;
     j["area"] = r.area;
@@ -158,6 +157,10 @@ void put_solid(const SolidReport& r, Json& j) {
 }
 
 }  // namespace
+
+const char* SolidReport::verdict() const {
+    return valid && closed ? "valid closed solid" : (closed ? "closed but invalid (BRepCheck_Analyzer)" : "not closed");
+}
 
 std::string SolidReport::to_json(int indent) const {
     nlohmann::ordered_json j;

@@ -47,6 +47,8 @@ struct SolidReport {
     double check_seconds = 0;                ///< ... BRepCheck_Analyzer,
     double properties_seconds = 0;           ///< ... area and volume.
     std::string message;                     ///< One line.
+    /// "valid closed solid", "closed but invalid (BRepCheck_Analyzer)" or "not closed".
+    const char* verdict() const;
     /// The report as a JSON object (relative figures divided by `diagonal` included).
     std::string to_json(int indent = 2) const;
 };
