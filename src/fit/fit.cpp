@@ -13,6 +13,7 @@
 #include <random>
 #include <set>
 
+#include "detail/blas_threads.h"
 #include "detail/control_mesh.h"
 #include "detail/costs.h"
 #include "detail/measure.h"
@@ -691,7 +692,10 @@ LevelReport fit_level(const Context& ctx, const LevelTopology& topo, subdiv::Lim
             so.minimizer_progress_to_stdout = false;
             ceres::Solver::Summary summary;
             const double setup = seconds_since(clock);
-            ceres::Solve(so, &problem, &summary);
+            {
+                const detail::ScopedBlasThreads blas;  // CHOLMOD's dense kernels (blas_threads.h)
+                ceres::Solve(so, &problem, &summary);
+            }
             ctx.progress(format("  ceres: set-up %.2f s, preprocess %.2f s, jacobians %.2f s", setup,
                                 summary.preprocessor_time_in_seconds, summary.jacobian_evaluation_time_in_seconds) +
                          format(", linear solver %.2f s, total %.2f s", summary.linear_solver_time_in_seconds,

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <string>
 
+#include "detail/blas_threads.h"
 #include "quadcage/core/errors.h"
 #include "quadcage/core/parallel.h"
 
@@ -126,6 +127,7 @@ bool NormalEquations::solve(const std::vector<double>& x, double damping, std::v
         diag[i] = values[diagonal_[i]];
         values[diagonal_[i]] += damping * diag[i];
     }
+    const ScopedBlasThreads blas;
     if (!f.analysed) {
         f.llt.analyzePattern(f.h);
         f.analysed = true;

@@ -1,0 +1,32 @@
+#include "detail/blas_threads.h"
+
+#include <dlfcn.h>
+
+namespace quadcage::fit::detail {
+
+namespace {
+
+// OpenBLAS's own entry points, looked up at run time: the build links the generic libblas.so.3,
+// which Debian's alternatives may point at OpenBLAS, ATLAS or the reference BLAS.
+using SetThreads = void (*)(int);
+using GetThreads = int (*)();
+
+SetThreads set_threads() { return reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads")); }
+GetThreads get_threads() { return reinterpret_cast<GetThreads>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads")); }
+
+}  // namespace
+
+ScopedBlasThreads::ScopedBlasThreads(int threads) {
+    const SetThreads set = set_threads();
+    const GetThreads get = get_threads();
+    if (!set || !get) return;
+    previous_ = get();
+    if (previous_ != threads) set(threads);
+    else previous_ = 0;
+}
+
+ScopedBlasThreads::~ScopedBlasThreads() {
+    if (previous_ > 0) set_threads()(previous_);
+}
+
+}  // namespace quadcage::fit::detail

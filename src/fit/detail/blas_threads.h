@@ -1,0 +1,31 @@
+#pragma once
+// The BLAS thread count during the fit's factorisations (private to src/fit).
+//
+// CHOLMOD's supernodal factorisation runs its dense updates through BLAS and LAPACK. OpenBLAS, which
+// Debian's libblas.so.3 usually resolves to, picks one thread per core by default, and its one-thread
+// kernels round differently from its threaded ones: eight.off fitted at level 3 ended in other bits
+// with OPENBLAS_NUM_THREADS=1 than with 2, 3 or 4. A fit's output would then depend on the machine's
+// core count, not only on the input and the options. Within a ScopedBlasThreads the BLAS uses a
+// fixed count, so the fit is the same on every machine (of the same build and libraries).
+
+namespace quadcage::fit::detail {
+
+/// BLAS threads of the fit's factorisations.
+inline constexpr int kBlasThreads = 1;
+
+/// Sets OpenBLAS's thread count to `threads` for the object's lifetime and restores it after. Does
+/// nothing when the BLAS in the process is not OpenBLAS (reference BLAS and ATLAS have no threads
+/// to set). OpenBLAS's count is process-wide: a concurrent BLAS call elsewhere in the process runs
+/// on `threads` meanwhile.
+class ScopedBlasThreads {
+public:
+    explicit ScopedBlasThreads(int threads = kBlasThreads);
+    ~ScopedBlasThreads();
+    ScopedBlasThreads(const ScopedBlasThreads&) = delete;
+    ScopedBlasThreads& operator=(const ScopedBlasThreads&) = delete;
+
+private:
+    int previous_ = 0;  ///< 0: nothing to restore.
+};
+
+}  // namespace quadcage::fit::detail
