@@ -28,6 +28,8 @@ struct LayoutOptions {
     std::string mesh;
     std::string output_dir;
     bool quiet = false;  ///< No progress on stderr.
+    int embedding_iterations = 0;  ///< layout::QuadLayoutOptions::embedding_iterations.
+    bool embedding_extract = false;  ///< layout::QuadLayoutOptions::embedding_extract.
 };
 int run_layout(const LayoutOptions& options);
 

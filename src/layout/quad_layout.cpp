@@ -8,6 +8,7 @@
 #include <optional>
 
 #include "detail/curves.h"
+#include "detail/embedding.h"
 #include "detail/patches.h"
 #include "detail/relax.h"
 #include "detail/stages.h"
@@ -123,6 +124,8 @@ std::string QuadLayoutOptions::validate() const {
     if (relax_sweeps < 0) return "relax_sweeps must be >= 0, got " + std::to_string(relax_sweeps);
     if (relax_corner_sweeps < 0)
         return "relax_corner_sweeps must be >= 0, got " + std::to_string(relax_corner_sweeps);
+    if (embedding_iterations < 0)
+        return "embedding_iterations must be >= 0, got " + std::to_string(embedding_iterations);
     return cycles.validate();
 }
 
@@ -316,6 +319,7 @@ QuadLayout build_quad_layout(const Mesh& input, const QuadLayoutOptions& options
                 if (const std::string problem = finish(b, net, &out); !problem.empty()) throw InternalError(problem);
             for (int i = 0; i < 2 * g; ++i) out.orthogonal_system.push_back(b.curves_[i]);
             for (int id : s_cycle_ids) out.s_cycles.push_back(b.curves_[id]);
+            if (options.embedding_iterations > 0) detail::embedding_stage(&out, options.embedding_iterations, options.embedding_extract, say);
             const double t_quality = clock();
             detail::measure_quality(&out);
             const double t_end = clock();

@@ -1,0 +1,46 @@
+#!/usr/bin/env bash
+# Benchmark of the global embedding optimisation (issue #20): per mesh, the patch area max/min of
+# the layout as built and of the squares of the optimised seamless map (the area each unit square
+# would get if the map were extracted), the symmetric Dirichlet energy before and after, and the
+# stage's seconds. Meshes: the shared eight, fertility, botijo, skull, 3holes and a generated body
+# with 3 small handles (`quadcage generate handles -g 3`).
+#   tools/bench/embedding.sh [BUILD_DIR] [ITERATIONS (default 30)] [MESH...]
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+build=${1:-build}
+iterations=${2:-30}
+shift $(( $# > 2 ? 2 : $# ))
+qc="$build/quadcage"
+[ -x "$qc" ] || { echo "build first: $qc not found" >&2; exit 2; }
+meshes=../shared/data/meshes
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+list=("$@")
+if [ ${#list[@]} -eq 0 ]; then
+  "$qc" generate handles -g 3 -o "$work/handles3.ply" >/dev/null
+  list=("$meshes/eight.off" "$meshes/fertility.off" "$meshes/botijo.off" "$meshes/skull.obj" "$meshes/3holes.off"
+        "$work/handles3.ply")
+fi
+printf '| mesh | unknowns | energy before -> after | iterations (why stopped) | flipped | transition error | patch area max/min: layout -> optimised map | area unattributed | embedding s | layout s |\n'
+printf '|---|---:|---|---|---:|---:|---|---:|---:|---:|\n'
+for m in "${list[@]}"; do
+  name=$(basename "$m")
+  start=$(date +%s.%N)
+  if ! "$qc" layout "$m" -o "$work/out" --embedding-iterations "$iterations" >"$work/log" 2>&1; then
+    printf '| %s | FAILED: %s |\n' "$name" "$(tail -1 "$work/log")"
+    continue
+  fi
+  end=$(date +%s.%N)
+  line=$(grep -o 'embedding: .*' "$work/log" | tail -1)
+  python3 - "$name" "$line" "$start" "$end" <<'PY'
+import re, sys
+name, line, start, end = sys.argv[1], sys.argv[2], float(sys.argv[3]), float(sys.argv[4])
+m = re.search(r"embedding: (\d+) iterations \((.*?)\), (\d+) unknowns, energy (\S+) -> (\S+), (\d+) flipped, "
+              r"transition error (\S+), (\S+) s; patch area max/min (\S+) -> (\S+) if extracted \((\S+)% of", line)
+if not m:
+    print(f"| {name} | no embedding line: {line} |")
+else:
+    it, why, unk, e0, e1, fl, te, sec, before, after, lost = m.groups()
+    print(f"| {name} | {unk} | {e0} -> {e1} | {it} ({why}) | {fl} | {te} | {before} -> {after} | {lost}% | {sec} | {end - start:.1f} |")
+PY
+done
