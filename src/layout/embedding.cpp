@@ -1,7 +1,7 @@
 #include "detail/embedding.h"
 
+#include <Eigen/CholmodSupport>
 #include <Eigen/Dense>
-#include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
 #include <algorithm>
 #include <chrono>
@@ -295,7 +295,10 @@ EmbeddingReport optimize_embedding(const QuadLayout& L, const EmbeddingOptions& 
     report.message = std::isfinite(e) ? "iteration limit" : "the start map flips a triangle";
 
     const int m = 2 * p.variables;
-    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver;
+    // CHOLMOD's supernodal factorisation: several times faster than Eigen's simplicial one at scan
+    // size (design.md §5); the reference BLAS it runs on is single-threaded, so deterministic.
+    Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> solver;
+    solver.cholmod().print = 0;
     bool analysed = false;
     std::vector<Eigen::Triplet<double>> entries;
     for (int it = 0; it < options.iterations && std::isfinite(e); ++it) {
@@ -335,7 +338,8 @@ EmbeddingReport optimize_embedding(const QuadLayout& L, const EmbeddingOptions& 
                     if (vb < 0) continue;
                     const Eigen::Matrix2d block = R[a].transpose() * h6.block<2, 2>(2 * a, 2 * b) * R[b];
                     for (int i = 0; i < 2; ++i)
-                        for (int j = 0; j < 2; ++j) entries.emplace_back(2 * va + i, 2 * vb + j, block(i, j));
+                        for (int j = 0; j < 2; ++j)
+                            if (2 * va + i >= 2 * vb + j) entries.emplace_back(2 * va + i, 2 * vb + j, block(i, j));
                 }
             }
         }
@@ -495,22 +499,39 @@ Attribution attribute_triangles(const QuadLayout& L, const Surface& s, const Edg
     Attribution at;
     at.square.assign(nt, -1);
     at.into.assign(nt, Transition{});
+    // One seed: the triangle whose centroid lies deepest inside its own square. Near a cone a chart
+    // can wrap (a patch's fan spanning more than a full turn), so "centroid inside its own square"
+    // does not tell the square elsewhere; from the seed every triangle is reached by developing
+    // along centroid-to-centroid segments, which never pass a cone.
+    int seed = -1;
+    double deepest = -kInfinity;
+    for (int t = 0; t < nt; ++t) {
+        const UV c = centroid_of(map.uv[t]);
+        const double depth = std::min({c[0], 1 - c[0], c[1], 1 - c[1]});
+        if (depth > deepest) deepest = depth, seed = t;
+    }
     std::vector<int> queue;
-    for (int t = 0; t < nt; ++t)
-        if (const UV c = centroid_of(map.uv[t]); c[0] > 0 && c[0] < 1 && c[1] > 0 && c[1] < 1) {
-            at.square[t] = L.triangle_patch[t];
-            queue.push_back(t);
-        }
+    if (seed >= 0) {
+        at.square[seed] = L.triangle_patch[seed];
+        queue.push_back(seed);
+    }
     for (size_t i = 0; i < queue.size(); ++i) {
         const int t = queue[i];
         const UV c = at.into[t].apply(centroid_of(map.uv[t]));
         for (int k = 0; k < 3; ++k) {
             const int h = 3 * t + k, o = s.twin(h) / 3;
             if (at.square[o] >= 0) continue;
-            // o's chart -> t's chart -> t's square's chart.
-            Transition F = transitions.into(s.twin(h)).then(at.into[t]);
+            // o's chart -> t's chart -> t's square's chart. Develop through the midpoint of the
+            // shared edge: each leg stays inside one triangle (the straight segment between the two
+            // centroids can leave a non-convex pair and pass a cone).
+            Transition F = transitions.into(h).then(at.into[t]);
             int q = at.square[t];
-            if (!walk(L.cage, &q, &F, c, F.apply(centroid_of(map.uv[o])))) continue;
+            const int ko = s.twin(h) % 3;
+            const UV& p0 = map.uv[o][ko];
+            const UV& p1 = map.uv[o][(ko + 1) % 3];
+            const UV mid{0.5 * (p0[0] + p1[0]), 0.5 * (p0[1] + p1[1])};
+            if (!walk(L.cage, &q, &F, c, F.apply(mid))) continue;
+            if (!walk(L.cage, &q, &F, F.apply(mid), F.apply(centroid_of(map.uv[o])))) continue;
             at.square[o] = q;
             at.into[o] = F;
             queue.push_back(o);
@@ -804,7 +825,8 @@ std::string extract_layout(const QuadLayout& L, const SeamlessMap& map_in, QuadL
             const int e = L.cage.quads[q].edges[side];
             if (L.cage.edges[e].quads[0] != q || L.cage.edges[e].sides[0] != side) continue;
             if (!next[e].emplace(new_triangles[f][k], new_triangles[f][(k + 1) % 3]).second)
-                return "an iso-line branches";
+                return "the iso-line of layout edge " + std::to_string(e) + " branches at vertex " +
+                       std::to_string(new_triangles[f][k]);
         }
     }
     out.edge_paths.resize(ne);

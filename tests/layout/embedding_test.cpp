@@ -102,6 +102,38 @@ TEST_P(LayoutEmbeddingOptimised, LowersTheEnergyFlipsNothingAndStaysSeamless) {
     EXPECT_NEAR(sum, surface_area(L.mesh), 1e-9 * sum);
 }
 
+TEST_P(LayoutEmbeddingOptimised, ExtractedIsoLinesFormAVerifiedLayoutWithTheSameCage) {
+    const QuadLayout& L = GetParam() == 1 ? torus_layout() : plate_layout();
+    EmbeddingOptions o;
+    o.iterations = 10;
+    SeamlessMap map;
+    optimize_embedding(L, o, &map);
+    const AreaPotential a = measure_area_potential(L, map);
+    QuadLayout X;
+    ASSERT_EQ(extract_layout(L, map, &X), "");
+    EXPECT_EQ(verify_quad_layout(X), "");
+    // The input's points first and unmoved; the same cage and corners.
+    ASSERT_GE(X.mesh.num_vertices(), L.mesh.num_vertices());
+    for (int v = 0; v < L.mesh.num_vertices(); ++v) ASSERT_EQ(X.mesh.points[v], L.mesh.points[v]);
+    EXPECT_EQ(X.corner_vertex, L.corner_vertex);
+    EXPECT_EQ(X.cage.num_quads(), L.cage.num_quads());
+    EXPECT_EQ(X.s_cycles.size(), L.s_cycles.size());
+    EXPECT_EQ(X.orthogonal_system.size(), L.orthogonal_system.size());
+    // Its patches have the areas the map put into the squares.
+    std::vector<double> area(X.cage.num_quads(), 0);
+    for (int t = 0; t < X.mesh.num_triangles(); ++t) area[X.triangle_patch[t]] += triangle_area(X.mesh, t);
+    for (int q = 0; q < X.cage.num_quads(); ++q) EXPECT_NEAR(area[q], a.patch_area[q], 1e-9 * surface_area(X.mesh));
+}
+
+TEST(LayoutEmbedding, ExtractionRejectsAFlippedMap) {
+    const QuadLayout& L = plate_layout();
+    SeamlessMap map;
+    optimize_embedding(L, EmbeddingOptions{}, &map);
+    std::swap(map.uv[0][1], map.uv[0][2]);
+    QuadLayout X;
+    EXPECT_NE(extract_layout(L, map, &X), "");
+}
+
 INSTANTIATE_TEST_SUITE_P(Genus, LayoutEmbeddingOptimised, ::testing::Values(1, 2));
 
 }  // namespace
