@@ -168,6 +168,7 @@ int run_layout(const LayoutOptions& o) {
     options.progress = progress.callback("");
     options.embedding_iterations = o.embedding_iterations;
     options.embedding_extract = o.embedding_extract;
+    options.embedding_area_weight = o.embedding_area_weight;
     const layout::MeshLayout result = layout::build_mesh_layout(prepared, o.mesh, options);
     layout::write_layout_outputs(out, result);
     out.commit();

@@ -30,6 +30,7 @@ struct LayoutOptions {
     bool quiet = false;  ///< No progress on stderr.
     int embedding_iterations = 0;  ///< layout::QuadLayoutOptions::embedding_iterations.
     bool embedding_extract = false;  ///< layout::QuadLayoutOptions::embedding_extract.
+    double embedding_area_weight = 0;  ///< layout::QuadLayoutOptions::embedding_area_weight.
 };
 int run_layout(const LayoutOptions& options);
 

@@ -59,6 +59,11 @@ int main(int argc, char** argv) {
     layout_cmd->add_flag("--embedding-extract", layout.embedding_extract,
                          "With --embedding-iterations: use the optimised map's iso-lines as the layout when\n"
                          "that layout verifies and is better balanced");
+    layout_cmd
+        ->add_option("--embedding-area-weight", layout.embedding_area_weight,
+                     "Weight of the embedding's area term over symmetric Dirichlet (default 0): higher\n"
+                     "evens out the patch areas at the cost of the corner angles")
+        ->check(CLI::NonNegativeNumber);
 
     // --cad-tolerance: relative to the diagonal; below 1e-9 of it double precision cannot tell.
     const CLI::Validator cad_tolerance(

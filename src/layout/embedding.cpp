@@ -86,6 +86,27 @@ double dirichlet(const Eigen::Vector4d& g, Eigen::Vector4d* grad, Eigen::Matrix4
     return value;
 }
 
+// The density with an extra area term: dirichlet() + area_weight * (det J + 1 / det J - 2), which is
+// 0 where the map keeps area and grows as it shrinks or stretches it (angles free).
+double density(const Eigen::Vector4d& g, double area_weight, Eigen::Vector4d* grad, Eigen::Matrix4d* hess) {
+    double value = dirichlet(g, grad, hess);
+    if (area_weight == 0 || !std::isfinite(value)) return value;
+    const double det = g[0] * g[3] - g[1] * g[2];
+    value += area_weight * (det + 1 / det - 2);
+    if (grad) {
+        const Eigen::Vector4d dd(g[3], -g[2], -g[1], g[0]);
+        const double d1 = 1 - 1 / (det * det);
+        *grad += area_weight * d1 * dd;
+        if (hess) {
+            Eigen::Matrix4d hd = Eigen::Matrix4d::Zero();
+            hd(0, 3) = hd(3, 0) = 1;
+            hd(1, 2) = hd(2, 1) = -1;
+            *hess += area_weight * (d1 * hd + 2 / (det * det * det) * dd * dd.transpose());
+        }
+    }
+    return value;
+}
+
 // One triangle corner's unknown: the (u, v) in the triangle's chart is T(x[var]), or fixed (a cone).
 struct CornerRef {
     int var = -1;
@@ -100,6 +121,7 @@ struct Problem {
     std::vector<Eigen::Matrix2d> rest_inverse;  // inverse of the scaled 3D edge matrix
     std::vector<double> area;                   // scaled 3D area (0: degenerate, no energy)
     double total_area = 0;
+    double area_weight = 0;  // EmbeddingOptions::area_weight
 };
 
 Eigen::Matrix2d rotation_matrix(int quarter_turns) {
@@ -130,7 +152,7 @@ double energy(const Problem& p, const std::vector<UV>& x) {
         if (!(signed_area2(u) > 0)) return kInfinity;
         if (p.area[t] == 0) continue;
         const Eigen::Matrix2d J = edge_matrix(u) * p.rest_inverse[t];
-        e += p.area[t] * dirichlet(Eigen::Vector4d(J(0, 0), J(0, 1), J(1, 0), J(1, 1)), nullptr, nullptr);
+        e += p.area[t] * density(Eigen::Vector4d(J(0, 0), J(0, 1), J(1, 0), J(1, 1)), p.area_weight, nullptr, nullptr);
     }
     return e;
 }
@@ -279,6 +301,7 @@ Transition side_transition(const subdiv::Cage& cage, int q, int k, int* neighbou
 std::string EmbeddingOptions::validate() const {
     if (iterations < 0) return "iterations must be >= 0, got " + std::to_string(iterations);
     if (!(tolerance >= 0)) return "tolerance must be >= 0";
+    if (!(area_weight >= 0)) return "area_weight must be >= 0";
     return "";
 }
 
@@ -286,7 +309,8 @@ EmbeddingReport optimize_embedding(const QuadLayout& L, const EmbeddingOptions& 
     const auto start = std::chrono::steady_clock::now();
     EmbeddingReport report;
     std::vector<UV> x;
-    const Problem p = build_problem(L, &x);
+    Problem p = build_problem(L, &x);
+    p.area_weight = options.area_weight;
     report.variables = p.variables;
     QC_CHECK(start_mismatch(L, p, x) < 1e-9, "optimize_embedding: the start map is not seamless");
     const int nt = static_cast<int>(p.refs.size());
@@ -313,7 +337,7 @@ EmbeddingReport optimize_embedding(const QuadLayout& L, const EmbeddingOptions& 
             const Eigen::Matrix2d J = edge_matrix(u) * Dinv;
             Eigen::Vector4d gJ;
             Eigen::Matrix4d hJ;
-            dirichlet(Eigen::Vector4d(J(0, 0), J(0, 1), J(1, 0), J(1, 1)), &gJ, &hJ);
+            density(Eigen::Vector4d(J(0, 0), J(0, 1), J(1, 0), J(1, 1)), p.area_weight, &gJ, &hJ);
             Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d> eig(hJ);
             const Eigen::Vector4d lambda = eig.eigenvalues().cwiseMax(0.0);
             hJ = eig.eigenvectors() * lambda.asDiagonal() * eig.eigenvectors().transpose();
@@ -882,11 +906,10 @@ std::string extract_layout(const QuadLayout& L, const SeamlessMap& map_in, QuadL
     return "";
 }
 
-void embedding_stage(QuadLayout* layout, int iterations, bool extract,
+
+void embedding_stage(QuadLayout* layout, const EmbeddingOptions& options, bool extract,
                      const std::function<void(const std::string&)>& say) {
     say("optimising the embedding");
-    EmbeddingOptions options;
-    options.iterations = iterations;
     SeamlessMap map;
     const EmbeddingReport r = optimize_embedding(*layout, options, &map);
     const AreaPotential a = measure_area_potential(*layout, map);

@@ -126,6 +126,8 @@ std::string QuadLayoutOptions::validate() const {
         return "relax_corner_sweeps must be >= 0, got " + std::to_string(relax_corner_sweeps);
     if (embedding_iterations < 0)
         return "embedding_iterations must be >= 0, got " + std::to_string(embedding_iterations);
+    if (!(embedding_area_weight >= 0) || !std::isfinite(embedding_area_weight))
+        return "embedding_area_weight must be finite and >= 0";
     return cycles.validate();
 }
 
@@ -319,7 +321,12 @@ QuadLayout build_quad_layout(const Mesh& input, const QuadLayoutOptions& options
                 if (const std::string problem = finish(b, net, &out); !problem.empty()) throw InternalError(problem);
             for (int i = 0; i < 2 * g; ++i) out.orthogonal_system.push_back(b.curves_[i]);
             for (int id : s_cycle_ids) out.s_cycles.push_back(b.curves_[id]);
-            if (options.embedding_iterations > 0) detail::embedding_stage(&out, options.embedding_iterations, options.embedding_extract, say);
+            if (options.embedding_iterations > 0) {
+                detail::EmbeddingOptions eo;
+                eo.iterations = options.embedding_iterations;
+                eo.area_weight = options.embedding_area_weight;
+                detail::embedding_stage(&out, eo, options.embedding_extract, say);
+            }
             const double t_quality = clock();
             detail::measure_quality(&out);
             const double t_end = clock();

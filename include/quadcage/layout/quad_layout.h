@@ -40,6 +40,10 @@ struct QuadLayoutOptions {
     /// With embedding_iterations > 0: replace the layout by the optimised map's iso-lines when that
     /// layout verifies and is better balanced (patch area max/min), else keep it and say why.
     bool embedding_extract = false;
+    /// Weight of the embedding's area term (det J + 1/det J - 2 per triangle, on top of symmetric
+    /// Dirichlet), >= 0: higher evens out the squares' areas at the cost of angles at the corners,
+    /// which stay where they are.
+    double embedding_area_weight = 0;
     std::function<void(const std::string&)>
         progress;                  ///< Called with a short message per stage; may be empty.
     std::string validate() const;  ///< Empty if valid, else what is wrong.

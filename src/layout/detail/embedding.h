@@ -44,6 +44,9 @@ struct SeamlessMap {
 struct EmbeddingOptions {
     int iterations = 30;         ///< Newton iterations at most, >= 0.
     double tolerance = 1e-4;     ///< Stop when an iteration lowers the energy by less than this fraction.
+    /// Weight of an extra area term det J + 1/det J - 2 per triangle (0: symmetric Dirichlet
+    /// alone), >= 0: trades angle distortion for area balance.
+    double area_weight = 0;
     std::string validate() const;  ///< Empty if valid, else what is wrong.
 };
 
@@ -96,11 +99,10 @@ AreaPotential measure_area_potential(const QuadLayout& layout, const SeamlessMap
 /// \pre map is seamless and flip-free over layout (optimize_embedding()'s result).
 std::string extract_layout(const QuadLayout& layout, const SeamlessMap& map, QuadLayout* out);
 
-/// The embedding stage of build_quad_layout(): optimize_embedding() with `iterations` Newton
-/// iterations, then measure_area_potential(); one progress line with the figures. With `extract`,
+/// The embedding stage of build_quad_layout(): optimize_embedding(), then measure_area_potential(); one progress line with the figures. With `extract`,
 /// replaces *layout by extract_layout()'s result if that verifies and has a smaller patch area
 /// max/min; the progress line says which and why.
-void embedding_stage(QuadLayout* layout, int iterations, bool extract,
+void embedding_stage(QuadLayout* layout, const EmbeddingOptions& options, bool extract,
                      const std::function<void(const std::string&)>& say);
 
 }  // namespace quadcage::layout::detail
