@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
 
 #include "detail/embedding.h"
 #include "detail/patches.h"
@@ -132,6 +133,30 @@ TEST(LayoutEmbedding, ExtractionRejectsAFlippedMap) {
     std::swap(map.uv[0][1], map.uv[0][2]);
     QuadLayout X;
     EXPECT_NE(extract_layout(L, map, &X), "");
+}
+
+TEST(LayoutEmbedding, TheDriversStageVerifiesAndSaysWhatItKept) {
+    QuadLayoutOptions o;
+    o.embedding_iterations = 10;
+    o.embedding_extract = true;
+    std::string said;
+    o.progress = [&said](const std::string& line) { said += line + "\n"; };
+    const QuadLayout L = build_quad_layout(shapes::plate_with_holes(2), o);
+    EXPECT_EQ(verify_quad_layout(L), "");
+    EXPECT_NE(said.find("embedding: extracted layout"), std::string::npos) << said;
+    EXPECT_NE(said.find("embedding: keeping"), std::string::npos) << said;
+}
+
+TEST(LayoutEmbedding, OptionsRejectNegativeValues) {
+    QuadLayoutOptions o;
+    o.embedding_iterations = -1;
+    EXPECT_NE(o.validate(), "");
+    o.embedding_iterations = 1;
+    o.embedding_area_weight = -1;
+    EXPECT_NE(o.validate(), "");
+    EmbeddingOptions e;
+    e.iterations = -1;
+    EXPECT_NE(e.validate(), "");
 }
 
 INSTANTIATE_TEST_SUITE_P(Genus, LayoutEmbeddingOptimised, ::testing::Values(1, 2));
