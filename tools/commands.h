@@ -31,6 +31,7 @@ struct LayoutOptions {
     int embedding_iterations = 0;  ///< layout::QuadLayoutOptions::embedding_iterations.
     bool embedding_extract = false;  ///< layout::QuadLayoutOptions::embedding_extract.
     double embedding_area_weight = 0;  ///< layout::QuadLayoutOptions::embedding_area_weight.
+    int embedding_cone_sweeps = 0;     ///< layout::QuadLayoutOptions::embedding_cone_sweeps.
 };
 int run_layout(const LayoutOptions& options);
 

@@ -64,6 +64,11 @@ int main(int argc, char** argv) {
                      "Weight of the embedding's area term over symmetric Dirichlet (default 0): higher\n"
                      "evens out the patch areas at the cost of the corner angles")
         ->check(CLI::NonNegativeNumber);
+    layout_cmd
+        ->add_option("--embedding-cone-sweeps", layout.embedding_cone_sweeps,
+                     "Passes of cone relocation in the embedding (each corner to a neighbouring vertex\n"
+                     "while that lowers the energy; default 0); experimental")
+        ->check(CLI::NonNegativeNumber);
 
     // --cad-tolerance: relative to the diagonal; below 1e-9 of it double precision cannot tell.
     const CLI::Validator cad_tolerance(

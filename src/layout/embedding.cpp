@@ -157,45 +157,43 @@ double energy(const Problem& p, const std::vector<UV>& x) {
     return e;
 }
 
-Problem build_problem(const QuadLayout& L, std::vector<UV>* x) {
+// The unknowns of a seamless map: one (u, v) per vertex that is no cone, stored in the chart of
+// its lowest triangle; every other copy is reached around the vertex through map.across. Cones are
+// fixed where the map has them (their lattice point in each chart).
+Problem build_problem(const QuadLayout& L, const Surface& s, const SeamlessMap& map, std::vector<UV>* x) {
     const Mesh& mesh = L.mesh;
     const int n = mesh.num_vertices(), nt = mesh.num_triangles();
-    std::vector<int> corner_of(n, -1), edge_of(n, -1);
-    for (int c = 0; c < L.cage.num_corners(); ++c) corner_of[L.corner_vertex[c]] = c;
-    for (size_t e = 0; e < L.edge_paths.size(); ++e)
-        for (size_t i = 1; i + 1 < L.edge_paths[e].size(); ++i) edge_of[L.edge_paths[e][i]] = static_cast<int>(e);
+    std::vector<char> cone(n, 0);
+    for (int v : map.cone_vertex) cone[v] = 1;
     Problem p;
     std::vector<int> var(n, -1);
     for (int v = 0; v < n; ++v)
-        if (corner_of[v] < 0) var[v] = p.variables++;
+        if (!cone[v]) var[v] = p.variables++;
     x->assign(p.variables, UV{0, 0});
-    std::vector<char> set(p.variables, 0);
     p.refs.resize(nt);
-    for (int t = 0; t < nt; ++t) {
-        const int q = L.triangle_patch[t];
-        for (int k = 0; k < 3; ++k) {
-            const int v = mesh.triangles[t][k];
-            CornerRef& r = p.refs[t][k];
-            r.var = var[v];
-            if (r.var < 0) {
-                r.fixed = L.corner_uv[t][k];
-                continue;
+    std::vector<char> done(3 * static_cast<size_t>(nt), 0);
+    for (int t0 = 0; t0 < nt; ++t0)
+        for (int k0 = 0; k0 < 3; ++k0) {
+            if (done[3 * t0 + k0]) continue;
+            const int v = mesh.triangles[t0][k0];
+            // Around v from t0 (its lowest triangle: corners are visited in triangle order).
+            if (var[v] >= 0) (*x)[var[v]] = map.uv[t0][k0];
+            int t = t0, k = k0;
+            Transition from_master;  // master chart -> t's chart
+            for (int guard = 0; guard < 100000; ++guard) {
+                CornerRef& r = p.refs[t][k];
+                r.var = var[v];
+                r.to_chart = from_master;
+                r.fixed = map.uv[t][k];
+                done[3 * t + k] = 1;
+                const int g = 3 * t + (k + 2) % 3;  // the edge into v: cross it
+                const int o = s.twin(g) / 3;
+                if (o == t0) break;
+                from_master = from_master.then(map.across[s.twin(g)]);
+                t = o;
+                k = std::find(mesh.triangles[o].begin(), mesh.triangles[o].end(), v) - mesh.triangles[o].begin();
             }
-            if (const int e = edge_of[v]; e >= 0) {
-                const auto& edge = L.cage.edges[e];
-                const int master = edge.quads[0];
-                if (q != master) {
-                    QC_CHECK(q == edge.quads[1], "optimize_embedding: a triangle at a layout edge is in neither of its patches");
-                    int neighbour = -1;
-                    r.to_chart = side_transition(L.cage, master, edge.sides[0], &neighbour);
-                    QC_CHECK(neighbour == q, "optimize_embedding: a transition leads to the wrong patch");
-                    continue;
-                }
-            }
-            if (!set[r.var]) (*x)[r.var] = L.corner_uv[t][k], set[r.var] = 1;
         }
-    }
-    for (int i = 0; i < p.variables; ++i) QC_CHECK(set[i], "optimize_embedding: a vertex has no master copy");
     // Reference shapes, scaled so that a unit square targets an equal share of the area.
     const double scale2 = L.cage.num_quads() / surface_area(mesh);
     p.rest_inverse.resize(nt);
@@ -218,12 +216,12 @@ Problem build_problem(const QuadLayout& L, std::vector<UV>* x) {
 
 // Largest |T(x_master) - corner_uv| over the copies the start map stores: 0 up to rounding when
 // the layout's maps agree on shared sides.
-double start_mismatch(const QuadLayout& L, const Problem& p, const std::vector<UV>& x) {
+double start_mismatch(const SeamlessMap& map, const Problem& p, const std::vector<UV>& x) {
     double worst = 0;
     for (size_t t = 0; t < p.refs.size(); ++t)
         for (int k = 0; k < 3; ++k) {
             const UV u = chart_uv(p.refs[t][k], x);
-            worst = std::max({worst, std::abs(u[0] - L.corner_uv[t][k][0]), std::abs(u[1] - L.corner_uv[t][k][1])});
+            worst = std::max({worst, std::abs(u[0] - map.uv[t][k][0]), std::abs(u[1] - map.uv[t][k][1])});
         }
     return worst;
 }
@@ -305,14 +303,17 @@ std::string EmbeddingOptions::validate() const {
     return "";
 }
 
-EmbeddingReport optimize_embedding(const QuadLayout& L, const EmbeddingOptions& options, SeamlessMap* map) {
+namespace {
+
+// Projected Newton on map->uv, with map's charts and cones.
+EmbeddingReport newton(const QuadLayout& L, const Surface& s, const EmbeddingOptions& options, SeamlessMap* map) {
     const auto start = std::chrono::steady_clock::now();
     EmbeddingReport report;
     std::vector<UV> x;
-    Problem p = build_problem(L, &x);
+    Problem p = build_problem(L, s, *map, &x);
     p.area_weight = options.area_weight;
     report.variables = p.variables;
-    QC_CHECK(start_mismatch(L, p, x) < 1e-9, "optimize_embedding: the start map is not seamless");
+    QC_CHECK(start_mismatch(*map, p, x) < 1e-9, "optimize_embedding: the start map is not seamless");
     const int nt = static_cast<int>(p.refs.size());
     double e = energy(p, x);
     report.initial_energy = e / p.total_area;
@@ -420,14 +421,11 @@ EmbeddingReport optimize_embedding(const QuadLayout& L, const EmbeddingOptions& 
         map->uv[t] = triangle_uv(p, t, x);
         if (!(signed_area2(map->uv[t]) > 0)) ++report.flipped_triangles;
     }
-    // Seamlessness of the result, checked across every mesh edge between two patches.
-    const Surface s(L.mesh);
-    const EdgeTransitions transitions(L, s);
+    // Seamlessness of the result, checked across every mesh edge.
     for (int h = 0; h < s.num_half_edges(); ++h) {
         const int t = h / 3, o = s.twin(h) / 3;
-        if (L.triangle_patch[t] == L.triangle_patch[o]) continue;
         const int k = h % 3, ko = s.twin(h) % 3;
-        const Transition T = transitions.into(s.twin(h));  // t's chart -> o's chart
+        const Transition& T = map->across[s.twin(h)];  // t's chart -> o's chart
         for (const auto& [mine, theirs] : {std::pair{k, (ko + 1) % 3}, std::pair{(k + 1) % 3, ko}}) {
             const UV a = T.apply(map->uv[t][mine]);
             const UV& b = map->uv[o][theirs];
@@ -436,6 +434,18 @@ EmbeddingReport optimize_embedding(const QuadLayout& L, const EmbeddingOptions& 
     }
     report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return report;
+}
+
+}  // namespace
+
+EmbeddingReport optimize_embedding(const QuadLayout& L, const EmbeddingOptions& options, SeamlessMap* map) {
+    const Surface s(L.mesh);
+    const EdgeTransitions transitions(L, s);
+    map->uv = L.corner_uv;
+    map->across.resize(s.num_half_edges());
+    for (int h = 0; h < s.num_half_edges(); ++h) map->across[h] = transitions.into(h);
+    map->cone_vertex = L.corner_vertex;
+    return newton(L, s, options, map);
 }
 
 namespace {
@@ -517,8 +527,7 @@ struct Attribution {
     std::vector<Transition> into;
 };
 
-Attribution attribute_triangles(const QuadLayout& L, const Surface& s, const EdgeTransitions& transitions,
-                                const SeamlessMap& map) {
+Attribution attribute_triangles(const QuadLayout& L, const Surface& s, const SeamlessMap& map) {
     const int nt = L.mesh.num_triangles();
     Attribution at;
     at.square.assign(nt, -1);
@@ -548,7 +557,7 @@ Attribution attribute_triangles(const QuadLayout& L, const Surface& s, const Edg
             // o's chart -> t's chart -> t's square's chart. Develop through the midpoint of the
             // shared edge: each leg stays inside one triangle (the straight segment between the two
             // centroids can leave a non-convex pair and pass a cone).
-            Transition F = transitions.into(h).then(at.into[t]);
+            Transition F = map.across[h].then(at.into[t]);
             int q = at.square[t];
             const int ko = s.twin(h) % 3;
             const UV& p0 = map.uv[o][ko];
@@ -566,6 +575,159 @@ Attribution attribute_triangles(const QuadLayout& L, const Surface& s, const Edg
 
 }  // namespace
 
+namespace {
+
+int corner_index(const Mesh& mesh, int t, int v) {
+    const Triangle& tri = mesh.triangles[t];
+    return tri[0] == v ? 0 : (tri[1] == v ? 1 : (tri[2] == v ? 2 : -1));
+}
+
+// Moves cone c of *map from its vertex v to v's neighbour w (see relocate_cones()). False (map
+// unchanged) if w is a cone or the rebuilt start would flip a triangle.
+bool move_cone(const QuadLayout& L, const Surface& s, int c, int w, SeamlessMap* map) {
+    const Mesh& mesh = L.mesh;
+    const int v = map->cone_vertex[c];
+    if (std::find(map->cone_vertex.begin(), map->cone_vertex.end(), w) != map->cone_vertex.end()) return false;
+    const int h0 = s.find_half_edge(v, w);
+    if (h0 < 0) return false;
+    const int t0 = h0 / 3, t1 = s.twin(h0) / 3;
+    const UV lattice = map->uv[t0][corner_index(mesh, t0, v)];
+    // Around v from t0 to t1 (not across v-w): P[i] maps fan[i]'s chart into t0's.
+    std::vector<int> fan{t0};
+    std::vector<Transition> P{Transition{}};
+    for (int t = t0; t != t1;) {
+        const int g = 3 * t + (corner_index(mesh, t, v) + 2) % 3;
+        const int o = s.twin(g) / 3;
+        P.push_back(map->across[g].then(P.back()));
+        fan.push_back(o);
+        t = o;
+        if (fan.size() > 10000) return false;
+    }
+    // The holonomy about the lattice point: the walk and the direct crossing differ by a quarter turn.
+    const Transition holonomy = P.back().inverse().then(map->across[h0]);
+    if (holonomy.quarter_turns == 0) return false;
+    // Around w from t0 the other way to t1: Q[j] maps wfan[j]'s chart into t0's.
+    std::vector<int> wfan;
+    std::vector<Transition> Q;
+    {
+        Transition into_t0;
+        for (int t = t0;;) {
+            const int g = 3 * t + corner_index(mesh, t, w);  // leaves w
+            const int o = s.twin(g) / 3;
+            if (o == t1) break;
+            into_t0 = map->across[g].then(into_t0);
+            wfan.push_back(o);
+            Q.push_back(into_t0);
+            t = o;
+            if (wfan.size() > 10000) return false;
+        }
+    }
+    // Polar angles about the lattice point in t0's chart, unwrapped along the walk around v.
+    auto polar = [&](const UV& y) { return std::atan2(y[1] - lattice[1], y[0] - lattice[0]); };
+    auto unwrap = [](double a, double ref) {
+        while (a - ref > M_PI) a -= 2 * M_PI;
+        while (a - ref < -M_PI) a += 2 * M_PI;
+        return a;
+    };
+    const UV w0 = map->uv[t0][corner_index(mesh, t0, w)];
+    const double theta_w = polar(w0);
+    // Power chart zeta = (y - L)^(4/5): the cone's 450 degrees become 360.
+    struct Z {
+        double x = 0, y = 0;
+    };
+    auto to_zeta = [&](const UV& y, double theta) {
+        const double r = std::hypot(y[0] - lattice[0], y[1] - lattice[1]);
+        const double rz = std::pow(r, 0.8), az = 0.8 * theta;
+        return Z{rz * std::cos(az), rz * std::sin(az)};
+    };
+    // v's new place: the mean of its neighbours in the power chart, w now at its origin.
+    Z sum;
+    int count = 0;
+    std::vector<double> centre_angle(fan.size());
+    double ref = theta_w;
+    for (size_t i = 0; i < fan.size(); ++i) {
+        const int t = fan[i];
+        std::array<UV, 3> y;
+        for (int k = 0; k < 3; ++k) y[k] = P[i].apply(map->uv[t][k]);
+        ref = unwrap(polar(centroid_of(y)), ref);
+        centre_angle[i] = ref;
+        // One neighbour per triangle: the corner after v (the ring, each once).
+        const int kn = (corner_index(mesh, t, v) + 1) % 3;
+        const int x = mesh.triangles[t][kn];
+        if (x != w) {
+            const Z z = to_zeta(y[kn], unwrap(polar(y[kn]), ref));
+            sum.x += z.x, sum.y += z.y;
+        }
+        ++count;
+    }
+    const Z zv{sum.x / count, sum.y / count};
+    const double rv = std::pow(std::hypot(zv.x, zv.y), 1.25);
+    const double av = std::atan2(zv.y, zv.x);
+    SeamlessMap m = *map;
+    // New corner positions: v on the branch of each fan triangle, w at the lattice point.
+    for (size_t i = 0; i < fan.size(); ++i) {
+        const int t = fan[i];
+        const Transition back = P[i].inverse();
+        double a = av;
+        while (a - 0.8 * centre_angle[i] > M_PI) a -= 2 * M_PI;
+        while (a - 0.8 * centre_angle[i] < -M_PI) a += 2 * M_PI;
+        const UV y{lattice[0] + rv * std::cos(1.25 * a), lattice[1] + rv * std::sin(1.25 * a)};
+        m.uv[t][corner_index(mesh, t, v)] = back.apply(y);
+        if (const int kw = corner_index(mesh, t, w); kw >= 0) m.uv[t][kw] = back.apply(lattice);
+    }
+    for (size_t j = 0; j < wfan.size(); ++j) m.uv[wfan[j]][corner_index(mesh, wfan[j], w)] = Q[j].inverse().apply(lattice);
+    for (int t : fan)
+        if (!(signed_area2(m.uv[t]) > 0)) return false;
+    for (int t : wfan)
+        if (!(signed_area2(m.uv[t]) > 0)) return false;
+    m.across[h0] = P.back();
+    m.across[s.twin(h0)] = P.back().inverse();
+    m.cone_vertex[c] = w;
+    *map = std::move(m);
+    return true;
+}
+
+}  // namespace
+
+int relocate_cones(const QuadLayout& L, const EmbeddingOptions& options, int sweeps, int trial_iterations,
+                   SeamlessMap* map, EmbeddingReport* report) {
+    const Surface s(L.mesh);
+    EmbeddingOptions zero = options, trial = options;
+    zero.iterations = 0;
+    trial.iterations = trial_iterations;
+    double e = newton(L, s, zero, map).initial_energy;
+    int moves = 0;
+    for (int sweep = 0; sweep < sweeps; ++sweep) {
+        int moved = 0;
+        for (size_t c = 0; c < map->cone_vertex.size(); ++c) {
+            std::vector<int> ring = s.ring(map->cone_vertex[c]);
+            std::sort(ring.begin(), ring.end());
+            double best_e = e;
+            SeamlessMap best;
+            for (int w : ring) {
+                SeamlessMap m = *map;
+                if (!move_cone(L, s, static_cast<int>(c), w, &m)) continue;
+                // The rebuilt start is not always seamless (v's branch in the power chart is taken
+                // from the old map; see the report of issue #20): newton() rejects it, and so do we.
+                try {
+                    const EmbeddingReport r = newton(L, s, trial, &m);
+                    if (r.final_energy < best_e * (1 - 1e-9)) best_e = r.final_energy, best = std::move(m);
+                } catch (const InternalError&) {
+                }
+            }
+            if (!best.uv.empty()) {
+                *map = std::move(best);
+                e = best_e;
+                ++moved;
+            }
+        }
+        moves += moved;
+        if (moved == 0) break;
+    }
+    *report = newton(L, s, options, map);
+    return moves;
+}
+
 AreaPotential measure_area_potential(const QuadLayout& L, const SeamlessMap& map) {
     const Mesh& mesh = L.mesh;
     const int nt = mesh.num_triangles(), nq = L.cage.num_quads();
@@ -577,8 +739,7 @@ AreaPotential measure_area_potential(const QuadLayout& L, const SeamlessMap& map
         out.before_max_over_min = *lo > 0 ? *hi / *lo : kInfinity;
     }
     const Surface s(mesh);
-    const EdgeTransitions transitions(L, s);
-    const Attribution at = attribute_triangles(L, s, transitions, map);
+    const Attribution at = attribute_triangles(L, s, map);
     const std::vector<int>& square = at.square;
     const std::vector<Transition>& into = at.into;
     // Clip each triangle against the lattice cells of its square's chart.
@@ -688,7 +849,6 @@ std::string extract_layout(const QuadLayout& L, const SeamlessMap& map_in, QuadL
     const Mesh& mesh = L.mesh;
     const int nt = mesh.num_triangles();
     const Surface s(mesh);
-    const EdgeTransitions transitions(L, s);
     // Coordinates within rounding of an integer lie on that iso-line. Transitions are integer, so all
     // copies of a vertex snap alike.
     SeamlessMap map = map_in;
@@ -698,7 +858,7 @@ std::string extract_layout(const QuadLayout& L, const SeamlessMap& map_in, QuadL
                 if (std::abs(x - std::round(x)) < 1e-7) x = std::round(x);
     for (int t = 0; t < nt; ++t)
         if (!(signed_area2(map.uv[t]) > 0)) return "triangle " + std::to_string(t) + " flips once snapped to the iso-lines";
-    const Attribution at = attribute_triangles(L, s, transitions, map);
+    const Attribution at = attribute_triangles(L, s, map);
     for (int t = 0; t < nt; ++t)
         if (at.square[t] < 0) return "triangle " + std::to_string(t) + " lies in no square";
 
@@ -749,7 +909,7 @@ std::string extract_layout(const QuadLayout& L, const SeamlessMap& map_in, QuadL
             const int h = 3 * t + k;
             const bool mine = h < s.twin(h);
             const std::vector<Crossing>& list = crossings[mine ? h : s.twin(h)];
-            const Transition T = mine ? Transition{} : transitions.into(h);  // canonical chart -> t's chart
+            const Transition T = mine ? Transition{} : map.across[h];  // canonical chart -> t's chart
             const UV& a = map.uv[t][k];
             const UV& b = map.uv[t][(k + 1) % 3];
             for (size_t i = 0; i < list.size(); ++i) {
@@ -830,7 +990,8 @@ std::string extract_layout(const QuadLayout& L, const SeamlessMap& map_in, QuadL
     out.input_vertices = L.input_vertices;
     out.genus = L.genus;
     out.cage = L.cage;
-    out.corner_vertex = L.corner_vertex;
+    out.corner_vertex = map.cone_vertex;
+    for (int c = 0; c < out.cage.num_corners(); ++c) out.cage.points[c] = mesh.points[out.corner_vertex[c]];
     out.triangle_patch = new_patch;
     out.mesh.triangles = new_triangles;
     const int ne = L.cage.num_edges();
@@ -857,8 +1018,8 @@ std::string extract_layout(const QuadLayout& L, const SeamlessMap& map_in, QuadL
     for (int e = 0; e < ne; ++e) {
         const auto& edge = L.cage.edges[e];
         const auto& quad = L.cage.quads[edge.quads[0]];
-        const int from = L.corner_vertex[quad.corners[edge.sides[0]]];
-        const int to = L.corner_vertex[quad.corners[(edge.sides[0] + 1) % 4]];
+        const int from = out.corner_vertex[quad.corners[edge.sides[0]]];
+        const int to = out.corner_vertex[quad.corners[(edge.sides[0] + 1) % 4]];
         std::vector<int> path{from};
         while (path.back() != to && path.size() <= next[e].size()) {
             const auto it = next[e].find(path.back());
@@ -867,7 +1028,7 @@ std::string extract_layout(const QuadLayout& L, const SeamlessMap& map_in, QuadL
         }
         if (path.back() != to || path.size() != next[e].size() + 1)
             return "the iso-line of layout edge " + std::to_string(e) + " does not run from corner to corner";
-        if (from != L.corner_vertex[edge.corners[0]]) std::reverse(path.begin(), path.end());
+        if (from != out.corner_vertex[edge.corners[0]]) std::reverse(path.begin(), path.end());
         out.edge_paths[e] = std::move(path);
     }
 
@@ -907,11 +1068,18 @@ std::string extract_layout(const QuadLayout& L, const SeamlessMap& map_in, QuadL
 }
 
 
-void embedding_stage(QuadLayout* layout, const EmbeddingOptions& options, bool extract,
+void embedding_stage(QuadLayout* layout, const EmbeddingOptions& options, int cone_sweeps, bool extract,
                      const std::function<void(const std::string&)>& say) {
     say("optimising the embedding");
     SeamlessMap map;
-    const EmbeddingReport r = optimize_embedding(*layout, options, &map);
+    EmbeddingReport r = optimize_embedding(*layout, options, &map);
+    if (cone_sweeps > 0) {
+        const double e0 = r.final_energy;
+        const int moves = relocate_cones(*layout, options, cone_sweeps, 3, &map, &r);
+        char l[200];
+        std::snprintf(l, sizeof l, "embedding: cone relocation: %d moves, energy %.4g -> %.4g", moves, e0, r.final_energy);
+        say(l);
+    }
     const AreaPotential a = measure_area_potential(*layout, map);
     char line[512];
     std::snprintf(line, sizeof line,

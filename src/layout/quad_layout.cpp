@@ -126,6 +126,8 @@ std::string QuadLayoutOptions::validate() const {
         return "relax_corner_sweeps must be >= 0, got " + std::to_string(relax_corner_sweeps);
     if (embedding_iterations < 0)
         return "embedding_iterations must be >= 0, got " + std::to_string(embedding_iterations);
+    if (embedding_cone_sweeps < 0)
+        return "embedding_cone_sweeps must be >= 0, got " + std::to_string(embedding_cone_sweeps);
     if (!(embedding_area_weight >= 0) || !std::isfinite(embedding_area_weight))
         return "embedding_area_weight must be finite and >= 0";
     return cycles.validate();
@@ -325,7 +327,7 @@ QuadLayout build_quad_layout(const Mesh& input, const QuadLayoutOptions& options
                 detail::EmbeddingOptions eo;
                 eo.iterations = options.embedding_iterations;
                 eo.area_weight = options.embedding_area_weight;
-                detail::embedding_stage(&out, eo, options.embedding_extract, say);
+                detail::embedding_stage(&out, eo, options.embedding_cone_sweeps, options.embedding_extract, say);
             }
             const double t_quality = clock();
             detail::measure_quality(&out);

@@ -147,12 +147,33 @@ TEST(LayoutEmbedding, TheDriversStageVerifiesAndSaysWhatItKept) {
     EXPECT_NE(said.find("embedding: keeping"), std::string::npos) << said;
 }
 
+TEST(LayoutEmbedding, ConeRelocationLowersTheEnergyAndStillExtracts) {
+    const QuadLayout& L = plate_layout();
+    SeamlessMap map;
+    const EmbeddingReport before = optimize_embedding(L, EmbeddingOptions{}, &map);
+    EmbeddingReport after;
+    const int moves = relocate_cones(L, EmbeddingOptions{}, 3, 3, &map, &after);
+    EXPECT_LE(after.final_energy, before.final_energy);
+    if (moves > 0) {
+        EXPECT_LT(after.final_energy, before.final_energy);
+    }
+    EXPECT_EQ(after.flipped_triangles, 0);
+    EXPECT_LT(after.transition_error, 1e-9);
+    QuadLayout X;
+    ASSERT_EQ(extract_layout(L, map, &X), "");
+    EXPECT_EQ(verify_quad_layout(X), "");
+    EXPECT_EQ(X.corner_vertex, map.cone_vertex);
+}
+
 TEST(LayoutEmbedding, OptionsRejectNegativeValues) {
     QuadLayoutOptions o;
     o.embedding_iterations = -1;
     EXPECT_NE(o.validate(), "");
     o.embedding_iterations = 1;
     o.embedding_area_weight = -1;
+    EXPECT_NE(o.validate(), "");
+    o.embedding_area_weight = 0;
+    o.embedding_cone_sweeps = -1;
     EXPECT_NE(o.validate(), "");
     EmbeddingOptions e;
     e.iterations = -1;

@@ -44,6 +44,9 @@ struct QuadLayoutOptions {
     /// Dirichlet), >= 0: higher evens out the squares' areas at the cost of angles at the corners,
     /// which stay where they are.
     double embedding_area_weight = 0;
+    /// Passes of the embedding's cone relocation (each cone to a neighbouring vertex while that
+    /// lowers the energy; 0: the corners stay), >= 0. Experimental.
+    int embedding_cone_sweeps = 0;
     std::function<void(const std::string&)>
         progress;                  ///< Called with a short message per stage; may be empty.
     std::string validate() const;  ///< Empty if valid, else what is wrong.

@@ -38,6 +38,12 @@ Transition side_transition(const subdiv::Cage& cage, int q, int k, int* neighbou
 /// lies, through the transitions, in a neighbouring square.
 struct SeamlessMap {
     std::vector<std::array<UV, 3>> uv;
+    /// Per half-edge h: the transition from the chart of the triangle across h into the chart of
+    /// h's triangle (identity inside a patch; side_transition() across a layout edge; a cone moved by
+    /// relocate_cones() leaves a trail of edges whose transitions turn about its lattice point).
+    std::vector<Transition> across;
+    /// The mesh vertex of each cage corner: the cones, pinned at their lattice points.
+    std::vector<int> cone_vertex;
 };
 
 /// Options for optimize_embedding().
@@ -72,6 +78,18 @@ struct EmbeddingReport {
 /// \pre verify_quad_layout(layout) is "" (so the start is flip-free and seamless).
 EmbeddingReport optimize_embedding(const QuadLayout& layout, const EmbeddingOptions& options, SeamlessMap* map);
 
+/// Cone relocation (issue #20, stretch): moves cones one mesh edge at a time while that lowers the
+/// optimised energy. A cone moved from v to its neighbour w makes edge v-w a cut whose transition
+/// turns about the cone's lattice point (v becomes regular, w the cone); the start map is rebuilt
+/// around v and w in the cone's power chart (z - L)^(4/5), where the 450-degree cone is flat, then
+/// optimised for `trial_iterations` Newton steps; the best neighbour of each cone is kept if it
+/// lowers the energy. Up to `sweeps` passes over the cones; then a full optimisation.
+/// Returns the number of moves made. A first version: the rebuilt start moves only v and w, so most
+/// candidates flip and are skipped, and some are not seamless (rejected); it finds small local
+/// moves only (eight: 9 moves, energy -1%).
+int relocate_cones(const QuadLayout& layout, const EmbeddingOptions& options, int sweeps, int trial_iterations,
+                   SeamlessMap* map, EmbeddingReport* report);
+
 /// Where the surface falls in the quad domain under a seamless map.
 struct AreaPotential {
     std::vector<double> patch_area;    ///< Surface area whose image lies in each unit square.
@@ -99,10 +117,11 @@ AreaPotential measure_area_potential(const QuadLayout& layout, const SeamlessMap
 /// \pre map is seamless and flip-free over layout (optimize_embedding()'s result).
 std::string extract_layout(const QuadLayout& layout, const SeamlessMap& map, QuadLayout* out);
 
-/// The embedding stage of build_quad_layout(): optimize_embedding(), then measure_area_potential(); one progress line with the figures. With `extract`,
+/// The embedding stage of build_quad_layout(): optimize_embedding(), relocate_cones() for
+/// `cone_sweeps` passes (0: none), then measure_area_potential(); one progress line with the figures. With `extract`,
 /// replaces *layout by extract_layout()'s result if that verifies and has a smaller patch area
 /// max/min; the progress line says which and why.
-void embedding_stage(QuadLayout* layout, const EmbeddingOptions& options, bool extract,
+void embedding_stage(QuadLayout* layout, const EmbeddingOptions& options, int cone_sweeps, bool extract,
                      const std::function<void(const std::string&)>& say);
 
 }  // namespace quadcage::layout::detail
