@@ -680,6 +680,26 @@ bool move_cone(const QuadLayout& L, const Surface& s, int c, int w, SeamlessMap*
         if (!(signed_area2(m.uv[t]) > 0)) return false;
     for (int t : wfan)
         if (!(signed_area2(m.uv[t]) > 0)) return false;
+    // Flip-free is not enough: v must turn 360 degrees and w 450 (else the map covers the cone's
+    // neighbourhood the wrong number of times).
+    auto turn = [&](int x, const std::vector<int>& tris) {
+        double sum = 0;
+        for (int t : tris) {
+            const int k = corner_index(mesh, t, x);
+            if (k < 0) continue;
+            const UV& a = m.uv[t][k];
+            const UV& b = m.uv[t][(k + 1) % 3];
+            const UV& c2 = m.uv[t][(k + 2) % 3];
+            const UV e1{b[0] - a[0], b[1] - a[1]}, e2{c2[0] - a[0], c2[1] - a[1]};
+            sum += std::atan2(cross2(e1, e2), e1[0] * e2[0] + e1[1] * e2[1]);
+        }
+        return sum;
+    };
+    std::vector<int> around_w = wfan;
+    around_w.push_back(t0);
+    around_w.push_back(t1);
+    constexpr double kTurn = 6.283185307179586;
+    if (std::abs(turn(v, fan) - kTurn) > 1e-6 || std::abs(turn(w, around_w) - 1.25 * kTurn) > 1e-6) return false;
     m.across[h0] = P.back();
     m.across[s.twin(h0)] = P.back().inverse();
     m.cone_vertex[c] = w;
@@ -708,7 +728,7 @@ int relocate_cones(const QuadLayout& L, const EmbeddingOptions& options, int swe
                 SeamlessMap m = *map;
                 if (!move_cone(L, s, static_cast<int>(c), w, &m)) continue;
                 // The rebuilt start is not always seamless (v's branch in the power chart is taken
-                // from the old map; see the report of issue #20): newton() rejects it, and so do we.
+                // per triangle from the old map): newton() rejects it, and so do we.
                 try {
                     const EmbeddingReport r = newton(L, s, trial, &m);
                     if (r.final_energy < best_e * (1 - 1e-9)) best_e = r.final_energy, best = std::move(m);
