@@ -166,6 +166,10 @@ int run_layout(const LayoutOptions& o) {
     out.expect(layout::layout_output_names(prepared.components.size()), {o.mesh});
     layout::QuadLayoutOptions options;
     options.progress = progress.callback("");
+    options.embedding_iterations = o.embedding_iterations;
+    options.embedding_extract = o.embedding_extract;
+    options.embedding_area_weight = o.embedding_area_weight;
+    options.embedding_cone_sweeps = o.embedding_cone_sweeps;
     const layout::MeshLayout result = layout::build_mesh_layout(prepared, o.mesh, options);
     layout::write_layout_outputs(out, result);
     out.commit();

@@ -28,6 +28,10 @@ struct LayoutOptions {
     std::string mesh;
     std::string output_dir;
     bool quiet = false;  ///< No progress on stderr.
+    int embedding_iterations = 0;  ///< layout::QuadLayoutOptions::embedding_iterations.
+    bool embedding_extract = false;  ///< layout::QuadLayoutOptions::embedding_extract.
+    double embedding_area_weight = 0;  ///< layout::QuadLayoutOptions::embedding_area_weight.
+    int embedding_cone_sweeps = 0;     ///< layout::QuadLayoutOptions::embedding_cone_sweeps.
 };
 int run_layout(const LayoutOptions& options);
 

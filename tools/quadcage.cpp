@@ -51,6 +51,24 @@ int main(int argc, char** argv) {
                   "cage.obj, cage.json (exact topology), cage_level1.obj, cycles.json and report.json; a mesh\n"
                   "of several components gets DIR/component_<i>/ each.");
     add_mesh_output_quiet(layout_cmd, layout.mesh, layout.output_dir, layout.quiet);
+    layout_cmd
+        ->add_option("--embedding-iterations", layout.embedding_iterations,
+                     "Newton iterations of the global embedding optimisation (issue #20; 0: off);\n"
+                     "experimental: reports the area balance the optimised map would give")
+        ->check(CLI::NonNegativeNumber);
+    layout_cmd->add_flag("--embedding-extract", layout.embedding_extract,
+                         "With --embedding-iterations: use the optimised map's iso-lines as the layout when\n"
+                         "that layout verifies and is better balanced");
+    layout_cmd
+        ->add_option("--embedding-area-weight", layout.embedding_area_weight,
+                     "Weight of the embedding's area term over symmetric Dirichlet (default 0): higher\n"
+                     "evens out the patch areas at the cost of the corner angles")
+        ->check(CLI::NonNegativeNumber);
+    layout_cmd
+        ->add_option("--embedding-cone-sweeps", layout.embedding_cone_sweeps,
+                     "Passes of cone relocation in the embedding (each corner to a neighbouring vertex\n"
+                     "while that lowers the energy; default 0); experimental")
+        ->check(CLI::NonNegativeNumber);
 
     // --cad-tolerance: relative to the diagonal; below 1e-9 of it double precision cannot tell.
     const CLI::Validator cad_tolerance(

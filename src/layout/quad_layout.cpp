@@ -8,6 +8,7 @@
 #include <optional>
 
 #include "detail/curves.h"
+#include "detail/embedding.h"
 #include "detail/patches.h"
 #include "detail/relax.h"
 #include "detail/stages.h"
@@ -123,6 +124,12 @@ std::string QuadLayoutOptions::validate() const {
     if (relax_sweeps < 0) return "relax_sweeps must be >= 0, got " + std::to_string(relax_sweeps);
     if (relax_corner_sweeps < 0)
         return "relax_corner_sweeps must be >= 0, got " + std::to_string(relax_corner_sweeps);
+    if (embedding_iterations < 0)
+        return "embedding_iterations must be >= 0, got " + std::to_string(embedding_iterations);
+    if (embedding_cone_sweeps < 0)
+        return "embedding_cone_sweeps must be >= 0, got " + std::to_string(embedding_cone_sweeps);
+    if (!(embedding_area_weight >= 0) || !std::isfinite(embedding_area_weight))
+        return "embedding_area_weight must be finite and >= 0";
     return cycles.validate();
 }
 
@@ -316,6 +323,12 @@ QuadLayout build_quad_layout(const Mesh& input, const QuadLayoutOptions& options
                 if (const std::string problem = finish(b, net, &out); !problem.empty()) throw InternalError(problem);
             for (int i = 0; i < 2 * g; ++i) out.orthogonal_system.push_back(b.curves_[i]);
             for (int id : s_cycle_ids) out.s_cycles.push_back(b.curves_[id]);
+            if (options.embedding_iterations > 0) {
+                detail::EmbeddingOptions eo;
+                eo.iterations = options.embedding_iterations;
+                eo.area_weight = options.embedding_area_weight;
+                detail::embedding_stage(&out, eo, options.embedding_cone_sweeps, options.embedding_extract, say);
+            }
             const double t_quality = clock();
             detail::measure_quality(&out);
             const double t_end = clock();

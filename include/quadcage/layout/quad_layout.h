@@ -32,6 +32,21 @@ struct QuadLayoutOptions {
     int relax_corner_sweeps = 2;  ///< The first this many of those passes first move every corner
                                   ///< towards where it shares its patches' area evenly and reroute its
                                   ///< edges (0: the corners stay where the construction put them), >= 0.
+    /// Newton iterations of the global embedding optimisation (issue #20; 0: skip it), >= 0. The
+    /// stage optimises one seamless map of the whole surface over the cage's unit squares
+    /// (symmetric Dirichlet, corners as cones) and reports how evenly it spreads the surface area
+    /// over the squares.
+    int embedding_iterations = 0;
+    /// With embedding_iterations > 0: replace the layout by the optimised map's iso-lines when that
+    /// layout verifies and is better balanced (patch area max/min), else keep it and say why.
+    bool embedding_extract = false;
+    /// Weight of the embedding's area term (det J + 1/det J - 2 per triangle, on top of symmetric
+    /// Dirichlet), >= 0: higher evens out the squares' areas at the cost of angles at the corners,
+    /// which stay where they are.
+    double embedding_area_weight = 0;
+    /// Passes of the embedding's cone relocation (each cone to a neighbouring vertex while that
+    /// lowers the energy; 0: the corners stay), >= 0. Experimental.
+    int embedding_cone_sweeps = 0;
     std::function<void(const std::string&)>
         progress;                  ///< Called with a short message per stage; may be empty.
     std::string validate() const;  ///< Empty if valid, else what is wrong.

@@ -1,0 +1,127 @@
+#pragma once
+// Global embedding optimisation of a quad layout (issue #20; Campen & Kobbelt, Quad Layout
+// Embedding via Aligned Parameterization, CGF 2014; Khodakovsky, Litke & Schroder, Globally Smooth
+// Parameterizations with Low Distortion, SIGGRAPH 2003). The layout's combinatorics stay fixed:
+// every cage quad is a unit square, neighbouring squares are related by the transition their
+// shared cage edge implies, the corners are the cones. One seamless map of the whole surface over
+// that domain is optimised jointly; its integer iso-lines are the new layout edges.
+
+#include <array>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "quadcage/layout/quad_layout.h"
+
+namespace quadcage::layout::detail {
+
+/// A transition between two charts: y = R^quarter_turns x + t, with R the counter-clockwise quarter
+/// turn and t integer. Maps lattice points to lattice points and iso-lines u, v in Z to iso-lines.
+struct Transition {
+    int quarter_turns = 0;  ///< 0..3.
+    std::array<int, 2> t{0, 0};
+
+    UV apply(const UV& x) const;
+    UV rotate(const UV& x) const;  ///< The linear part only (for directions).
+    Transition then(const Transition& next) const;  ///< next(this(x)).
+    Transition inverse() const;
+};
+
+/// The transition across side k of cage quad q: maps q's square chart to the chart of the quad on
+/// the other side of that cage edge (stored in *neighbour), so that the two squares share the side
+/// (q's side k runs from corner k to corner k+1, the neighbour's the other way) and lie on opposite
+/// sides of it.
+Transition side_transition(const subdiv::Cage& cage, int q, int k, int* neighbour);
+
+/// A seamless map of the layout's mesh: per triangle the (u, v) of its corners in the chart of its
+/// patch (layout.triangle_patch). Unlike QuadLayout::corner_uv, a triangle may leave [0,1]^2: it then
+/// lies, through the transitions, in a neighbouring square.
+struct SeamlessMap {
+    std::vector<std::array<UV, 3>> uv;
+    /// Per half-edge h: the transition from the chart of the triangle across h into the chart of
+    /// h's triangle (identity inside a patch; side_transition() across a layout edge; a cone moved by
+    /// relocate_cones() leaves a trail of edges whose transitions turn about its lattice point).
+    std::vector<Transition> across;
+    /// The mesh vertex of each cage corner: the cones, pinned at their lattice points.
+    std::vector<int> cone_vertex;
+};
+
+/// Options for optimize_embedding().
+struct EmbeddingOptions {
+    int iterations = 30;         ///< Newton iterations at most, >= 0.
+    double tolerance = 1e-4;     ///< Stop when an iteration lowers the energy by less than this fraction.
+    /// Weight of an extra area term det J + 1/det J - 2 per triangle (0: symmetric Dirichlet
+    /// alone), >= 0: trades angle distortion for area balance.
+    double area_weight = 0;
+    std::string validate() const;  ///< Empty if valid, else what is wrong.
+};
+
+/// What optimize_embedding() did.
+struct EmbeddingReport {
+    int iterations = 0;
+    int variables = 0;                 ///< Free (u, v) pairs: one per vertex that is no corner.
+    double initial_energy = 0;         ///< Area-weighted mean symmetric Dirichlet energy (4 = isometric).
+    double final_energy = 0;
+    double transition_error = 0;       ///< Largest |T(uv_P) - uv_Q| over vertex copies of the result.
+    int flipped_triangles = 0;         ///< Of the result (0 unless the start had flips).
+    double seconds = 0;
+    std::string message;               ///< Why it stopped.
+};
+
+/// Minimises the symmetric Dirichlet energy (Smith & Schaefer 2015) of the map from each triangle,
+/// scaled so that every unit square targets area(mesh) / quads, to its chart, over all charts at
+/// once. Unknowns: one (u, v) per vertex that is no corner; a vertex on a layout edge is stored in
+/// the chart of the edge's first quad and seen by the second through side_transition(). Corners stay
+/// at their square corners (cones). Projected Newton (per-triangle Hessians projected onto the
+/// positive semidefinite cone; Teran et al. 2005) with a line search that never lets a triangle
+/// flip, starting from the layout's corner_uv.
+/// \pre verify_quad_layout(layout) is "" (so the start is flip-free and seamless).
+EmbeddingReport optimize_embedding(const QuadLayout& layout, const EmbeddingOptions& options, SeamlessMap* map);
+
+/// Cone relocation (issue #20, stretch): moves cones one mesh edge at a time while that lowers the
+/// optimised energy. A cone moved from v to its neighbour w makes edge v-w a cut whose transition
+/// turns about the cone's lattice point (v becomes regular, w the cone); the start map is rebuilt
+/// around v and w in the cone's power chart (z - L)^(4/5), where the 450-degree cone is flat, then
+/// optimised for `trial_iterations` Newton steps; the best neighbour of each cone is kept if it
+/// lowers the energy. Up to `sweeps` passes over the cones; then a full optimisation.
+/// Returns the number of moves made. A first version: the rebuilt start moves only v and w, so most
+/// candidates flip and are skipped, and some are not seamless (rejected); it finds small local
+/// moves only (eight: 9 moves, energy -1%).
+int relocate_cones(const QuadLayout& layout, const EmbeddingOptions& options, int sweeps, int trial_iterations,
+                   SeamlessMap* map, EmbeddingReport* report);
+
+/// Where the surface falls in the quad domain under a seamless map.
+struct AreaPotential {
+    std::vector<double> patch_area;    ///< Surface area whose image lies in each unit square.
+    double max_over_min = 0;           ///< Of patch_area (what extraction would give).
+    double before_max_over_min = 0;    ///< Of the layout's own patches (triangle_patch).
+    double unattributed_fraction = 0;  ///< Area whose square could not be told, over the total.
+};
+
+/// Clips every triangle's image against the lattice cells and attributes each piece to a square:
+/// a triangle's square is found by walking from a neighbour's (starting from triangles whose
+/// centroid lies in their own square) across the square sides the segment between their centroids
+/// crosses; each piece of it by walking from its centroid within the triangle. Cones are never inside
+/// a triangle of a locally injective map, so the walks are well defined; a walk that does not end
+/// leaves its area unattributed.
+AreaPotential measure_area_potential(const QuadLayout& layout, const SeamlessMap& map);
+
+/// The layout the seamless map draws: its edges are the integer iso-lines u or v in Z between the
+/// corners (Campen & Kobbelt 2014, §6). Mesh triangles are cut along the iso-lines (new vertices
+/// only where an iso-line crosses a mesh edge, appended after the layout mesh's points; the pieces,
+/// convex in the map, are triangulated without new points); every new triangle goes to the square
+/// its image lies in; edge_paths follow the iso-lines from corner to corner; the cage, corners,
+/// genus and input_vertices stay; orthogonal_system and s_cycles follow the split edges; corner_uv
+/// is recomputed by parameterize_patches() (whose sides are by arc length, as verify_quad_layout()
+/// requires). Returns "" and fills *out, or says why the map gives no layout (nothing is changed).
+/// \pre map is seamless and flip-free over layout (optimize_embedding()'s result).
+std::string extract_layout(const QuadLayout& layout, const SeamlessMap& map, QuadLayout* out);
+
+/// The embedding stage of build_quad_layout(): optimize_embedding(), relocate_cones() for
+/// `cone_sweeps` passes (0: none), then measure_area_potential(); one progress line with the figures. With `extract`,
+/// replaces *layout by extract_layout()'s result if that verifies and has a smaller patch area
+/// max/min; the progress line says which and why.
+void embedding_stage(QuadLayout* layout, const EmbeddingOptions& options, int cone_sweeps, bool extract,
+                     const std::function<void(const std::string&)>& say);
+
+}  // namespace quadcage::layout::detail

@@ -1,0 +1,1135 @@
+#include "detail/embedding.h"
+
+#include <Eigen/CholmodSupport>
+#include <Eigen/Dense>
+#include <Eigen/SparseCore>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <limits>
+#include <unordered_map>
+
+#include "detail/curves.h"
+#include "detail/patches.h"
+#include "detail/surface.h"
+#include "quadcage/core/errors.h"
+
+namespace quadcage::layout::detail {
+
+namespace {
+
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+
+// The unit square's sides, counter-clockwise from (0,0): side k starts at kStart[k] and runs along
+// kDirection[k]; inside lies to its left.
+constexpr int kStart[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+constexpr int kDirection[4][2] = {{1, 0}, {0, 1}, {-1, 0}, {0, -1}};
+
+std::array<int, 2> rotate_int(int quarter_turns, std::array<int, 2> x) {
+    for (int i = 0; i < quarter_turns; ++i) x = {-x[1], x[0]};
+    return x;
+}
+
+double cross2(const UV& a, const UV& b) {
+    return a[0] * b[1] - a[1] * b[0];
+}
+
+// Twice the signed area of a uv triangle.
+double signed_area2(const std::array<UV, 3>& p) {
+    return (p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) - (p[2][0] - p[0][0]) * (p[1][1] - p[0][1]);
+}
+
+// Smallest root in (0, limit] of det(A + s B) for 2x2 A (det > 0), B; limit if none.
+double first_flip(const Eigen::Matrix2d& A, const Eigen::Matrix2d& B, double limit) {
+    const double c = A.determinant();
+    const double b = A(0, 0) * B(1, 1) + A(1, 1) * B(0, 0) - A(0, 1) * B(1, 0) - A(1, 0) * B(0, 1);
+    const double a = B.determinant();
+    double root = kInfinity;
+    auto take = [&](double r) {
+        if (r > 0 && r < root) root = r;
+    };
+    if (std::abs(a) < 1e-300 * (std::abs(b) + std::abs(c)) || a == 0) {
+        if (b != 0) take(-c / b);
+    } else {
+        const double disc = b * b - 4 * a * c;
+        if (disc >= 0) {
+            const double q = -0.5 * (b + std::copysign(std::sqrt(disc), b));
+            if (q != 0) take(c / q);
+            take(q / a);
+        }
+    }
+    return std::min(root, limit);
+}
+
+// The symmetric Dirichlet density |J|^2 + |J^-1|^2 of a 2x2 Jacobian (vec = J00, J01, J10, J11),
+// its gradient and Hessian in vec(J). +inf when det J <= 0.
+double dirichlet(const Eigen::Vector4d& g, Eigen::Vector4d* grad, Eigen::Matrix4d* hess) {
+    const double det = g[0] * g[3] - g[1] * g[2];
+    if (!(det > 0)) return kInfinity;
+    const double f2 = g.squaredNorm();
+    const double inv2 = 1.0 / (det * det);
+    const double value = f2 * (1 + inv2);
+    if (grad) {
+        const Eigen::Vector4d dd(g[3], -g[2], -g[1], g[0]);
+        *grad = 2 * g * (1 + inv2) - 2 * f2 * inv2 / det * dd;
+        if (hess) {
+            Eigen::Matrix4d hd = Eigen::Matrix4d::Zero();
+            hd(0, 3) = hd(3, 0) = 1;
+            hd(1, 2) = hd(2, 1) = -1;
+            *hess = 2 * (1 + inv2) * Eigen::Matrix4d::Identity() -
+                    4 * inv2 / det * (g * dd.transpose() + dd * g.transpose()) +
+                    6 * f2 * inv2 * inv2 * dd * dd.transpose() - 2 * f2 * inv2 / det * hd;
+        }
+    }
+    return value;
+}
+
+// The density with an extra area term: dirichlet() + area_weight * (det J + 1 / det J - 2), which is
+// 0 where the map keeps area and grows as it shrinks or stretches it (angles free).
+double density(const Eigen::Vector4d& g, double area_weight, Eigen::Vector4d* grad, Eigen::Matrix4d* hess) {
+    double value = dirichlet(g, grad, hess);
+    if (area_weight == 0 || !std::isfinite(value)) return value;
+    const double det = g[0] * g[3] - g[1] * g[2];
+    value += area_weight * (det + 1 / det - 2);
+    if (grad) {
+        const Eigen::Vector4d dd(g[3], -g[2], -g[1], g[0]);
+        const double d1 = 1 - 1 / (det * det);
+        *grad += area_weight * d1 * dd;
+        if (hess) {
+            Eigen::Matrix4d hd = Eigen::Matrix4d::Zero();
+            hd(0, 3) = hd(3, 0) = 1;
+            hd(1, 2) = hd(2, 1) = -1;
+            *hess += area_weight * (d1 * hd + 2 / (det * det * det) * dd * dd.transpose());
+        }
+    }
+    return value;
+}
+
+// One triangle corner's unknown: the (u, v) in the triangle's chart is T(x[var]), or fixed (a cone).
+struct CornerRef {
+    int var = -1;
+    Transition to_chart;
+    UV fixed{0, 0};
+};
+
+// The seamless problem: unknowns, per-triangle references and reference shapes.
+struct Problem {
+    int variables = 0;
+    std::vector<std::array<CornerRef, 3>> refs;
+    std::vector<Eigen::Matrix2d> rest_inverse;  // inverse of the scaled 3D edge matrix
+    std::vector<double> area;                   // scaled 3D area (0: degenerate, no energy)
+    double total_area = 0;
+    double area_weight = 0;  // EmbeddingOptions::area_weight
+};
+
+Eigen::Matrix2d rotation_matrix(int quarter_turns) {
+    Eigen::Matrix2d r = Eigen::Matrix2d::Identity();
+    const Eigen::Matrix2d quarter = (Eigen::Matrix2d() << 0, -1, 1, 0).finished();
+    for (int i = 0; i < quarter_turns; ++i) r = quarter * r;
+    return r;
+}
+
+UV chart_uv(const CornerRef& r, const std::vector<UV>& x) {
+    return r.var < 0 ? r.fixed : r.to_chart.apply(x[r.var]);
+}
+
+std::array<UV, 3> triangle_uv(const Problem& p, int t, const std::vector<UV>& x) {
+    return {chart_uv(p.refs[t][0], x), chart_uv(p.refs[t][1], x), chart_uv(p.refs[t][2], x)};
+}
+
+Eigen::Matrix2d edge_matrix(const std::array<UV, 3>& u) {
+    Eigen::Matrix2d d;
+    d << u[1][0] - u[0][0], u[2][0] - u[0][0], u[1][1] - u[0][1], u[2][1] - u[0][1];
+    return d;
+}
+
+double energy(const Problem& p, const std::vector<UV>& x) {
+    double e = 0;
+    for (size_t t = 0; t < p.refs.size(); ++t) {
+        const std::array<UV, 3> u = triangle_uv(p, static_cast<int>(t), x);
+        if (!(signed_area2(u) > 0)) return kInfinity;
+        if (p.area[t] == 0) continue;
+        const Eigen::Matrix2d J = edge_matrix(u) * p.rest_inverse[t];
+        e += p.area[t] * density(Eigen::Vector4d(J(0, 0), J(0, 1), J(1, 0), J(1, 1)), p.area_weight, nullptr, nullptr);
+    }
+    return e;
+}
+
+// The unknowns of a seamless map: one (u, v) per vertex that is no cone, stored in the chart of
+// its lowest triangle; every other copy is reached around the vertex through map.across. Cones are
+// fixed where the map has them (their lattice point in each chart).
+Problem build_problem(const QuadLayout& L, const Surface& s, const SeamlessMap& map, std::vector<UV>* x) {
+    const Mesh& mesh = L.mesh;
+    const int n = mesh.num_vertices(), nt = mesh.num_triangles();
+    std::vector<char> cone(n, 0);
+    for (int v : map.cone_vertex) cone[v] = 1;
+    Problem p;
+    std::vector<int> var(n, -1);
+    for (int v = 0; v < n; ++v)
+        if (!cone[v]) var[v] = p.variables++;
+    x->assign(p.variables, UV{0, 0});
+    p.refs.resize(nt);
+    std::vector<char> done(3 * static_cast<size_t>(nt), 0);
+    for (int t0 = 0; t0 < nt; ++t0)
+        for (int k0 = 0; k0 < 3; ++k0) {
+            if (done[3 * t0 + k0]) continue;
+            const int v = mesh.triangles[t0][k0];
+            // Around v from t0 (its lowest triangle: corners are visited in triangle order).
+            if (var[v] >= 0) (*x)[var[v]] = map.uv[t0][k0];
+            int t = t0, k = k0;
+            Transition from_master;  // master chart -> t's chart
+            for (int guard = 0; guard < 100000; ++guard) {
+                CornerRef& r = p.refs[t][k];
+                r.var = var[v];
+                r.to_chart = from_master;
+                r.fixed = map.uv[t][k];
+                done[3 * t + k] = 1;
+                const int g = 3 * t + (k + 2) % 3;  // the edge into v: cross it
+                const int o = s.twin(g) / 3;
+                if (o == t0) break;
+                from_master = from_master.then(map.across[s.twin(g)]);
+                t = o;
+                k = std::find(mesh.triangles[o].begin(), mesh.triangles[o].end(), v) - mesh.triangles[o].begin();
+            }
+        }
+    // Reference shapes, scaled so that a unit square targets an equal share of the area.
+    const double scale2 = L.cage.num_quads() / surface_area(mesh);
+    p.rest_inverse.resize(nt);
+    p.area.assign(nt, 0);
+    for (int t = 0; t < nt; ++t) {
+        const Triangle& tri = mesh.triangles[t];
+        const Vec3 e1 = mesh.points[tri[1]] - mesh.points[tri[0]], e2 = mesh.points[tri[2]] - mesh.points[tri[0]];
+        const double l1 = norm(e1), a2 = norm(cross(e1, e2));
+        p.rest_inverse[t].setIdentity();
+        if (!(l1 > 0) || !(a2 > 1e-14 * l1 * l1)) continue;  // degenerate: kept flip-free, no energy
+        const double s = std::sqrt(scale2);
+        Eigen::Matrix2d rest;
+        rest << s * l1, s * dot(e2, e1) / l1, 0, s * a2 / l1;
+        p.rest_inverse[t] = rest.inverse();
+        p.area[t] = 0.5 * a2 * scale2;
+        p.total_area += p.area[t];
+    }
+    return p;
+}
+
+// Largest |T(x_master) - corner_uv| over the copies the start map stores: 0 up to rounding when
+// the layout's maps agree on shared sides.
+double start_mismatch(const SeamlessMap& map, const Problem& p, const std::vector<UV>& x) {
+    double worst = 0;
+    for (size_t t = 0; t < p.refs.size(); ++t)
+        for (int k = 0; k < 3; ++k) {
+            const UV u = chart_uv(p.refs[t][k], x);
+            worst = std::max({worst, std::abs(u[0] - map.uv[t][k][0]), std::abs(u[1] - map.uv[t][k][1])});
+        }
+    return worst;
+}
+
+// The transition from the chart of the triangle across half-edge h to the chart of h's triangle.
+struct EdgeTransitions {
+    const QuadLayout& L;
+    const Surface& s;
+    std::unordered_map<std::uint64_t, int> layout_edge;  // mesh edge -> layout edge
+
+    EdgeTransitions(const QuadLayout& layout, const Surface& surface) : L(layout), s(surface) {
+        for (size_t e = 0; e < L.edge_paths.size(); ++e)
+            for (size_t i = 0; i + 1 < L.edge_paths[e].size(); ++i)
+                layout_edge[edge_key(L.edge_paths[e][i], L.edge_paths[e][i + 1])] = static_cast<int>(e);
+    }
+
+    Transition into(int h) const {
+        const int q = L.triangle_patch[h / 3], qo = L.triangle_patch[s.twin(h) / 3];
+        if (q == qo) return {};
+        const auto it = layout_edge.find(edge_key(s.from(h), s.to(h)));
+        QC_CHECK(it != layout_edge.end(), "patches meet off the layout edges");
+        const auto& edge = L.cage.edges[it->second];
+        const int slot = edge.quads[0] == qo ? 0 : 1;
+        int nb = -1;
+        const Transition T = side_transition(L.cage, qo, edge.sides[slot], &nb);
+        QC_CHECK(nb == q, "a transition across a mesh edge leads to the wrong patch");
+        return T;
+    }
+};
+
+}  // namespace
+
+UV Transition::rotate(const UV& x) const {
+    UV y = x;
+    for (int i = 0; i < quarter_turns; ++i) y = {-y[1], y[0]};
+    return y;
+}
+
+UV Transition::apply(const UV& x) const {
+    const UV y = rotate(x);
+    return {y[0] + t[0], y[1] + t[1]};
+}
+
+Transition Transition::then(const Transition& next) const {
+    Transition r;
+    r.quarter_turns = (quarter_turns + next.quarter_turns) % 4;
+    const std::array<int, 2> moved = rotate_int(next.quarter_turns, t);
+    r.t = {moved[0] + next.t[0], moved[1] + next.t[1]};
+    return r;
+}
+
+Transition Transition::inverse() const {
+    Transition r;
+    r.quarter_turns = (4 - quarter_turns) % 4;
+    const std::array<int, 2> back = rotate_int(r.quarter_turns, t);
+    r.t = {-back[0], -back[1]};
+    return r;
+}
+
+Transition side_transition(const subdiv::Cage& cage, int q, int k, int* neighbour) {
+    const auto& edge = cage.edges[cage.quads[q].edges[k]];
+    const int slot = edge.quads[0] == q && edge.sides[0] == k ? 0 : 1;
+    QC_CHECK(edge.quads[slot] == q && edge.sides[slot] == k, "side_transition: the cage edge does not know its side");
+    const int other = edge.sides[1 - slot];
+    *neighbour = edge.quads[1 - slot];
+    // The side's frame (start, direction, inward normal) maps onto the other side's frame with the
+    // direction and the normal reversed: a half turn times the turn from side k to side `other`.
+    Transition r;
+    r.quarter_turns = ((other - k + 2) % 4 + 4) % 4;
+    const std::array<int, 2> s = rotate_int(r.quarter_turns, {kStart[k][0], kStart[k][1]});
+    r.t = {kStart[other][0] + kDirection[other][0] - s[0], kStart[other][1] + kDirection[other][1] - s[1]};
+    return r;
+}
+
+std::string EmbeddingOptions::validate() const {
+    if (iterations < 0) return "iterations must be >= 0, got " + std::to_string(iterations);
+    if (!(tolerance >= 0)) return "tolerance must be >= 0";
+    if (!(area_weight >= 0)) return "area_weight must be >= 0";
+    return "";
+}
+
+namespace {
+
+// Projected Newton on map->uv, with map's charts and cones.
+EmbeddingReport newton(const QuadLayout& L, const Surface& s, const EmbeddingOptions& options, SeamlessMap* map) {
+    const auto start = std::chrono::steady_clock::now();
+    EmbeddingReport report;
+    std::vector<UV> x;
+    Problem p = build_problem(L, s, *map, &x);
+    p.area_weight = options.area_weight;
+    report.variables = p.variables;
+    QC_CHECK(start_mismatch(*map, p, x) < 1e-9, "optimize_embedding: the start map is not seamless");
+    const int nt = static_cast<int>(p.refs.size());
+    double e = energy(p, x);
+    report.initial_energy = e / p.total_area;
+    report.message = std::isfinite(e) ? "iteration limit" : "the start map flips a triangle";
+
+    const int m = 2 * p.variables;
+    // CHOLMOD's supernodal factorisation: several times faster than Eigen's simplicial one at scan
+    // size (design.md §5); the reference BLAS it runs on is single-threaded, so deterministic.
+    Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> solver;
+    solver.cholmod().print = 0;
+    bool analysed = false;
+    std::vector<Eigen::Triplet<double>> entries;
+    for (int it = 0; it < options.iterations && std::isfinite(e); ++it) {
+        // Gradient and projected Hessian.
+        Eigen::VectorXd grad = Eigen::VectorXd::Zero(m);
+        entries.clear();
+        entries.reserve(static_cast<size_t>(nt) * 36 + m);
+        for (int t = 0; t < nt; ++t) {
+            if (p.area[t] == 0) continue;
+            const std::array<UV, 3> u = triangle_uv(p, t, x);
+            const Eigen::Matrix2d& Dinv = p.rest_inverse[t];
+            const Eigen::Matrix2d J = edge_matrix(u) * Dinv;
+            Eigen::Vector4d gJ;
+            Eigen::Matrix4d hJ;
+            density(Eigen::Vector4d(J(0, 0), J(0, 1), J(1, 0), J(1, 1)), p.area_weight, &gJ, &hJ);
+            Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d> eig(hJ);
+            const Eigen::Vector4d lambda = eig.eigenvalues().cwiseMax(0.0);
+            hJ = eig.eigenvectors() * lambda.asDiagonal() * eig.eigenvectors().transpose();
+            // d vec(J) / d (u0 v0 u1 v1 u2 v2).
+            Eigen::Matrix<double, 4, 6> B = Eigen::Matrix<double, 4, 6>::Zero();
+            for (int i = 0; i < 2; ++i)
+                for (int j = 0; j < 2; ++j) {
+                    B(2 * i + j, 2 * 1 + i) = Dinv(0, j);
+                    B(2 * i + j, 2 * 2 + i) = Dinv(1, j);
+                    B(2 * i + j, 2 * 0 + i) = -Dinv(0, j) - Dinv(1, j);
+                }
+            const Eigen::Matrix<double, 6, 1> g6 = p.area[t] * B.transpose() * gJ;
+            const Eigen::Matrix<double, 6, 6> h6 = p.area[t] * B.transpose() * hJ * B;
+            std::array<Eigen::Matrix2d, 3> R;
+            for (int a = 0; a < 3; ++a) R[a] = rotation_matrix(p.refs[t][a].to_chart.quarter_turns);
+            for (int a = 0; a < 3; ++a) {
+                const int va = p.refs[t][a].var;
+                if (va < 0) continue;
+                grad.segment<2>(2 * va) += R[a].transpose() * g6.segment<2>(2 * a);
+                for (int b = 0; b < 3; ++b) {
+                    const int vb = p.refs[t][b].var;
+                    if (vb < 0) continue;
+                    const Eigen::Matrix2d block = R[a].transpose() * h6.block<2, 2>(2 * a, 2 * b) * R[b];
+                    for (int i = 0; i < 2; ++i)
+                        for (int j = 0; j < 2; ++j)
+                            if (2 * va + i >= 2 * vb + j) entries.emplace_back(2 * va + i, 2 * vb + j, block(i, j));
+                }
+            }
+        }
+        for (int i = 0; i < m; ++i) entries.emplace_back(i, i, 1e-9);
+        Eigen::SparseMatrix<double> H(m, m);
+        H.setFromTriplets(entries.begin(), entries.end());
+        if (!analysed) solver.analyzePattern(H), analysed = true;
+        solver.factorize(H);
+        if (solver.info() != Eigen::Success) {
+            report.message = "the Newton system could not be factorised";
+            break;
+        }
+        const Eigen::VectorXd d = solver.solve(-grad);
+        const double slope = grad.dot(d);
+        if (!(slope < 0)) {
+            report.message = "no descent direction";
+            break;
+        }
+        // Longest step that flips no triangle, then backtracking (Armijo).
+        double step = 1.0;
+        for (int t = 0; t < nt; ++t) {
+            const std::array<UV, 3> u = triangle_uv(p, t, x);
+            std::array<UV, 3> du;
+            for (int a = 0; a < 3; ++a) {
+                const CornerRef& r = p.refs[t][a];
+                du[a] = r.var < 0 ? UV{0, 0} : r.to_chart.rotate({d[2 * r.var], d[2 * r.var + 1]});
+            }
+            step = first_flip(edge_matrix(u), edge_matrix(du), step / 0.9) * 0.9;
+        }
+        std::vector<UV> trial(x.size());
+        double e_new = kInfinity;
+        for (int halving = 0; halving < 40; ++halving, step *= 0.5) {
+            for (int i = 0; i < p.variables; ++i) trial[i] = {x[i][0] + step * d[2 * i], x[i][1] + step * d[2 * i + 1]};
+            e_new = energy(p, trial);
+            if (e_new <= e + 1e-4 * step * slope) break;
+        }
+        if (!(e_new < e)) {
+            report.message = "the line search found no decrease";
+            break;
+        }
+        x.swap(trial);
+        const double decrease = (e - e_new) / e;
+        e = e_new;
+        report.iterations = it + 1;
+        if (decrease < options.tolerance) {
+            report.message = "converged (relative decrease " + std::to_string(decrease) + ")";
+            break;
+        }
+    }
+    report.final_energy = e / p.total_area;
+
+    map->uv.resize(nt);
+    for (int t = 0; t < nt; ++t) {
+        map->uv[t] = triangle_uv(p, t, x);
+        if (!(signed_area2(map->uv[t]) > 0)) ++report.flipped_triangles;
+    }
+    // Seamlessness of the result, checked across every mesh edge.
+    for (int h = 0; h < s.num_half_edges(); ++h) {
+        const int t = h / 3, o = s.twin(h) / 3;
+        const int k = h % 3, ko = s.twin(h) % 3;
+        const Transition& T = map->across[s.twin(h)];  // t's chart -> o's chart
+        for (const auto& [mine, theirs] : {std::pair{k, (ko + 1) % 3}, std::pair{(k + 1) % 3, ko}}) {
+            const UV a = T.apply(map->uv[t][mine]);
+            const UV& b = map->uv[o][theirs];
+            report.transition_error = std::max({report.transition_error, std::abs(a[0] - b[0]), std::abs(a[1] - b[1])});
+        }
+    }
+    report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return report;
+}
+
+}  // namespace
+
+EmbeddingReport optimize_embedding(const QuadLayout& L, const EmbeddingOptions& options, SeamlessMap* map) {
+    const Surface s(L.mesh);
+    const EdgeTransitions transitions(L, s);
+    map->uv = L.corner_uv;
+    map->across.resize(s.num_half_edges());
+    for (int h = 0; h < s.num_half_edges(); ++h) map->across[h] = transitions.into(h);
+    map->cone_vertex = L.corner_vertex;
+    return newton(L, s, options, map);
+}
+
+namespace {
+
+bool inside_square(const UV& x, double eps) {
+    return x[0] >= -eps && x[0] <= 1 + eps && x[1] >= -eps && x[1] <= 1 + eps;
+}
+
+// A point's square: starting in square *q (chart coordinates x0 in or on it), walks to x1 (same
+// chart) across the sides the segment crosses, composing *F with each transition. False if it
+// takes too many steps.
+bool walk(const subdiv::Cage& cage, int* q, Transition* F, UV x0, UV x1) {
+    constexpr double eps = 1e-12;
+    for (int step = 0; step < 16; ++step) {
+        if (inside_square(x1, eps)) return true;
+        double best = kInfinity;
+        int side = -1;
+        auto consider = [&](int k, double s) {
+            if (s < best) best = s, side = k;
+        };
+        const double du = x1[0] - x0[0], dv = x1[1] - x0[1];
+        if (x1[1] < -eps) consider(0, (0 - x0[1]) / dv);
+        if (x1[0] > 1 + eps) consider(1, (1 - x0[0]) / du);
+        if (x1[1] > 1 + eps) consider(2, (1 - x0[1]) / dv);
+        if (x1[0] < -eps) consider(3, (0 - x0[0]) / du);
+        best = std::clamp(best, 0.0, 1.0);
+        UV exit{x0[0] + best * du, x0[1] + best * dv};
+        exit = {std::clamp(exit[0], 0.0, 1.0), std::clamp(exit[1], 0.0, 1.0)};
+        int nb = -1;
+        const Transition T = side_transition(cage, *q, side, &nb);
+        *F = F->then(T);
+        *q = nb;
+        x0 = T.apply(exit);
+        x1 = T.apply(x1);
+    }
+    return inside_square(x1, eps);
+}
+
+// Sutherland-Hodgman: the part of polygon `poly` with coordinate `axis` >= value (sign 1) or <=
+// value (sign -1).
+std::vector<UV> clip(const std::vector<UV>& poly, int axis, double value, double sign) {
+    std::vector<UV> out;
+    const size_t n = poly.size();
+    for (size_t i = 0; i < n; ++i) {
+        const UV& a = poly[i];
+        const UV& b = poly[(i + 1) % n];
+        const double da = sign * (a[axis] - value), db = sign * (b[axis] - value);
+        if (da >= 0) out.push_back(a);
+        if ((da >= 0) != (db >= 0)) {
+            const double f = da / (da - db);
+            out.push_back({a[0] + f * (b[0] - a[0]), a[1] + f * (b[1] - a[1])});
+        }
+    }
+    return out;
+}
+
+double polygon_area(const std::vector<UV>& poly, UV* centroid) {
+    double a2 = 0, cx = 0, cy = 0;
+    for (size_t i = 0; i < poly.size(); ++i) {
+        const UV& p = poly[i];
+        const UV& q = poly[(i + 1) % poly.size()];
+        const double c = cross2(p, q);
+        a2 += c;
+        cx += (p[0] + q[0]) * c;
+        cy += (p[1] + q[1]) * c;
+    }
+    if (centroid && a2 != 0) *centroid = {cx / (3 * a2), cy / (3 * a2)};
+    return 0.5 * a2;
+}
+
+UV centroid_of(const std::array<UV, 3>& u) {
+    return {(u[0][0] + u[1][0] + u[2][0]) / 3, (u[0][1] + u[1][1] + u[2][1]) / 3};
+}
+
+// Each triangle's square and the transition from its own chart into that square's chart
+// (square -1: not found).
+struct Attribution {
+    std::vector<int> square;
+    std::vector<Transition> into;
+};
+
+Attribution attribute_triangles(const QuadLayout& L, const Surface& s, const SeamlessMap& map) {
+    const int nt = L.mesh.num_triangles();
+    Attribution at;
+    at.square.assign(nt, -1);
+    at.into.assign(nt, Transition{});
+    // One seed: the triangle whose centroid lies deepest inside its own square. Near a cone a chart
+    // can wrap (a patch's fan spanning more than a full turn), so "centroid inside its own square"
+    // does not tell the square elsewhere; from the seed every triangle is reached by developing
+    // along centroid-to-centroid segments, which never pass a cone.
+    int seed = -1;
+    double deepest = -kInfinity;
+    for (int t = 0; t < nt; ++t) {
+        const UV c = centroid_of(map.uv[t]);
+        const double depth = std::min({c[0], 1 - c[0], c[1], 1 - c[1]});
+        if (depth > deepest) deepest = depth, seed = t;
+    }
+    std::vector<int> queue;
+    if (seed >= 0) {
+        at.square[seed] = L.triangle_patch[seed];
+        queue.push_back(seed);
+    }
+    for (size_t i = 0; i < queue.size(); ++i) {
+        const int t = queue[i];
+        const UV c = at.into[t].apply(centroid_of(map.uv[t]));
+        for (int k = 0; k < 3; ++k) {
+            const int h = 3 * t + k, o = s.twin(h) / 3;
+            if (at.square[o] >= 0) continue;
+            // o's chart -> t's chart -> t's square's chart. Develop through the midpoint of the
+            // shared edge: each leg stays inside one triangle (the straight segment between the two
+            // centroids can leave a non-convex pair and pass a cone).
+            Transition F = map.across[h].then(at.into[t]);
+            int q = at.square[t];
+            const int ko = s.twin(h) % 3;
+            const UV& p0 = map.uv[o][ko];
+            const UV& p1 = map.uv[o][(ko + 1) % 3];
+            const UV mid{0.5 * (p0[0] + p1[0]), 0.5 * (p0[1] + p1[1])};
+            if (!walk(L.cage, &q, &F, c, F.apply(mid))) continue;
+            if (!walk(L.cage, &q, &F, F.apply(mid), F.apply(centroid_of(map.uv[o])))) continue;
+            at.square[o] = q;
+            at.into[o] = F;
+            queue.push_back(o);
+        }
+    }
+    return at;
+}
+
+}  // namespace
+
+namespace {
+
+int corner_index(const Mesh& mesh, int t, int v) {
+    const Triangle& tri = mesh.triangles[t];
+    return tri[0] == v ? 0 : (tri[1] == v ? 1 : (tri[2] == v ? 2 : -1));
+}
+
+// Moves cone c of *map from its vertex v to v's neighbour w (see relocate_cones()). False (map
+// unchanged) if w is a cone or the rebuilt start would flip a triangle.
+bool move_cone(const QuadLayout& L, const Surface& s, int c, int w, SeamlessMap* map) {
+    const Mesh& mesh = L.mesh;
+    const int v = map->cone_vertex[c];
+    if (std::find(map->cone_vertex.begin(), map->cone_vertex.end(), w) != map->cone_vertex.end()) return false;
+    const int h0 = s.find_half_edge(v, w);
+    if (h0 < 0) return false;
+    const int t0 = h0 / 3, t1 = s.twin(h0) / 3;
+    const UV lattice = map->uv[t0][corner_index(mesh, t0, v)];
+    // Around v from t0 to t1 (not across v-w): P[i] maps fan[i]'s chart into t0's.
+    std::vector<int> fan{t0};
+    std::vector<Transition> P{Transition{}};
+    for (int t = t0; t != t1;) {
+        const int g = 3 * t + (corner_index(mesh, t, v) + 2) % 3;
+        const int o = s.twin(g) / 3;
+        P.push_back(map->across[g].then(P.back()));
+        fan.push_back(o);
+        t = o;
+        if (fan.size() > 10000) return false;
+    }
+    // The holonomy about the lattice point: the walk and the direct crossing differ by a quarter turn.
+    const Transition holonomy = P.back().inverse().then(map->across[h0]);
+    if (holonomy.quarter_turns == 0) return false;
+    // Around w from t0 the other way to t1: Q[j] maps wfan[j]'s chart into t0's.
+    std::vector<int> wfan;
+    std::vector<Transition> Q;
+    {
+        Transition into_t0;
+        for (int t = t0;;) {
+            const int g = 3 * t + corner_index(mesh, t, w);  // leaves w
+            const int o = s.twin(g) / 3;
+            if (o == t1) break;
+            into_t0 = map->across[g].then(into_t0);
+            wfan.push_back(o);
+            Q.push_back(into_t0);
+            t = o;
+            if (wfan.size() > 10000) return false;
+        }
+    }
+    // Polar angles about the lattice point in t0's chart, unwrapped along the walk around v.
+    auto polar = [&](const UV& y) { return std::atan2(y[1] - lattice[1], y[0] - lattice[0]); };
+    auto unwrap = [](double a, double ref) {
+        while (a - ref > M_PI) a -= 2 * M_PI;
+        while (a - ref < -M_PI) a += 2 * M_PI;
+        return a;
+    };
+    const UV w0 = map->uv[t0][corner_index(mesh, t0, w)];
+    const double theta_w = polar(w0);
+    // Power chart zeta = (y - L)^(4/5): the cone's 450 degrees become 360.
+    struct Z {
+        double x = 0, y = 0;
+    };
+    auto to_zeta = [&](const UV& y, double theta) {
+        const double r = std::hypot(y[0] - lattice[0], y[1] - lattice[1]);
+        const double rz = std::pow(r, 0.8), az = 0.8 * theta;
+        return Z{rz * std::cos(az), rz * std::sin(az)};
+    };
+    // v's new place: the mean of its neighbours in the power chart, w now at its origin.
+    Z sum;
+    int count = 0;
+    std::vector<double> centre_angle(fan.size());
+    double ref = theta_w;
+    for (size_t i = 0; i < fan.size(); ++i) {
+        const int t = fan[i];
+        std::array<UV, 3> y;
+        for (int k = 0; k < 3; ++k) y[k] = P[i].apply(map->uv[t][k]);
+        ref = unwrap(polar(centroid_of(y)), ref);
+        centre_angle[i] = ref;
+        // One neighbour per triangle: the corner after v (the ring, each once).
+        const int kn = (corner_index(mesh, t, v) + 1) % 3;
+        const int x = mesh.triangles[t][kn];
+        if (x != w) {
+            const Z z = to_zeta(y[kn], unwrap(polar(y[kn]), ref));
+            sum.x += z.x, sum.y += z.y;
+        }
+        ++count;
+    }
+    const Z zv{sum.x / count, sum.y / count};
+    const double rv = std::pow(std::hypot(zv.x, zv.y), 1.25);
+    const double av = std::atan2(zv.y, zv.x);
+    SeamlessMap m = *map;
+    // New corner positions: v on the branch of each fan triangle, w at the lattice point.
+    for (size_t i = 0; i < fan.size(); ++i) {
+        const int t = fan[i];
+        const Transition back = P[i].inverse();
+        double a = av;
+        while (a - 0.8 * centre_angle[i] > M_PI) a -= 2 * M_PI;
+        while (a - 0.8 * centre_angle[i] < -M_PI) a += 2 * M_PI;
+        const UV y{lattice[0] + rv * std::cos(1.25 * a), lattice[1] + rv * std::sin(1.25 * a)};
+        m.uv[t][corner_index(mesh, t, v)] = back.apply(y);
+        if (const int kw = corner_index(mesh, t, w); kw >= 0) m.uv[t][kw] = back.apply(lattice);
+    }
+    for (size_t j = 0; j < wfan.size(); ++j) m.uv[wfan[j]][corner_index(mesh, wfan[j], w)] = Q[j].inverse().apply(lattice);
+    for (int t : fan)
+        if (!(signed_area2(m.uv[t]) > 0)) return false;
+    for (int t : wfan)
+        if (!(signed_area2(m.uv[t]) > 0)) return false;
+    // Flip-free is not enough: v must turn 360 degrees and w 450 (else the map covers the cone's
+    // neighbourhood the wrong number of times).
+    auto turn = [&](int x, const std::vector<int>& tris) {
+        double sum = 0;
+        for (int t : tris) {
+            const int k = corner_index(mesh, t, x);
+            if (k < 0) continue;
+            const UV& a = m.uv[t][k];
+            const UV& b = m.uv[t][(k + 1) % 3];
+            const UV& c2 = m.uv[t][(k + 2) % 3];
+            const UV e1{b[0] - a[0], b[1] - a[1]}, e2{c2[0] - a[0], c2[1] - a[1]};
+            sum += std::atan2(cross2(e1, e2), e1[0] * e2[0] + e1[1] * e2[1]);
+        }
+        return sum;
+    };
+    std::vector<int> around_w = wfan;
+    around_w.push_back(t0);
+    around_w.push_back(t1);
+    constexpr double kTurn = 6.283185307179586;
+    if (std::abs(turn(v, fan) - kTurn) > 1e-6 || std::abs(turn(w, around_w) - 1.25 * kTurn) > 1e-6) return false;
+    m.across[h0] = P.back();
+    m.across[s.twin(h0)] = P.back().inverse();
+    m.cone_vertex[c] = w;
+    *map = std::move(m);
+    return true;
+}
+
+}  // namespace
+
+int relocate_cones(const QuadLayout& L, const EmbeddingOptions& options, int sweeps, int trial_iterations,
+                   SeamlessMap* map, EmbeddingReport* report) {
+    const Surface s(L.mesh);
+    EmbeddingOptions zero = options, trial = options;
+    zero.iterations = 0;
+    trial.iterations = trial_iterations;
+    double e = newton(L, s, zero, map).initial_energy;
+    int moves = 0;
+    for (int sweep = 0; sweep < sweeps; ++sweep) {
+        int moved = 0;
+        for (size_t c = 0; c < map->cone_vertex.size(); ++c) {
+            std::vector<int> ring = s.ring(map->cone_vertex[c]);
+            std::sort(ring.begin(), ring.end());
+            double best_e = e;
+            SeamlessMap best;
+            for (int w : ring) {
+                SeamlessMap m = *map;
+                if (!move_cone(L, s, static_cast<int>(c), w, &m)) continue;
+                // The rebuilt start is not always seamless (v's branch in the power chart is taken
+                // per triangle from the old map): newton() rejects it, and so do we.
+                try {
+                    const EmbeddingReport r = newton(L, s, trial, &m);
+                    if (r.final_energy < best_e * (1 - 1e-9)) best_e = r.final_energy, best = std::move(m);
+                } catch (const InternalError&) {
+                }
+            }
+            if (!best.uv.empty()) {
+                *map = std::move(best);
+                e = best_e;
+                ++moved;
+            }
+        }
+        moves += moved;
+        if (moved == 0) break;
+    }
+    *report = newton(L, s, options, map);
+    return moves;
+}
+
+AreaPotential measure_area_potential(const QuadLayout& L, const SeamlessMap& map) {
+    const Mesh& mesh = L.mesh;
+    const int nt = mesh.num_triangles(), nq = L.cage.num_quads();
+    AreaPotential out;
+    std::vector<double> before(nq, 0);
+    for (int t = 0; t < nt; ++t) before[L.triangle_patch[t]] += triangle_area(mesh, t);
+    {
+        const auto [lo, hi] = std::minmax_element(before.begin(), before.end());
+        out.before_max_over_min = *lo > 0 ? *hi / *lo : kInfinity;
+    }
+    const Surface s(mesh);
+    const Attribution at = attribute_triangles(L, s, map);
+    const std::vector<int>& square = at.square;
+    const std::vector<Transition>& into = at.into;
+    // Clip each triangle against the lattice cells of its square's chart.
+    out.patch_area.assign(nq, 0);
+    double total = 0, lost = 0;
+    for (int t = 0; t < nt; ++t) {
+        const double a3 = triangle_area(mesh, t);
+        total += a3;
+        if (square[t] < 0) {
+            lost += a3;
+            continue;
+        }
+        std::array<UV, 3> u;
+        for (int k = 0; k < 3; ++k) u[k] = into[t].apply(map.uv[t][k]);
+        const double a_uv = 0.5 * signed_area2(u);
+        if (!(a_uv > 0)) {
+            lost += a3;
+            continue;
+        }
+        const UV c = centroid_of(u);
+        double lo[2], hi[2];
+        for (int axis = 0; axis < 2; ++axis) {
+            lo[axis] = std::floor(std::min({u[0][axis], u[1][axis], u[2][axis]}));
+            hi[axis] = std::ceil(std::max({u[0][axis], u[1][axis], u[2][axis]}));
+        }
+        const std::vector<UV> poly(u.begin(), u.end());
+        for (double i = lo[0]; i < hi[0]; ++i)
+            for (double j = lo[1]; j < hi[1]; ++j) {
+                std::vector<UV> piece = clip(clip(clip(clip(poly, 0, i, 1), 0, i + 1, -1), 1, j, 1), 1, j + 1, -1);
+                if (piece.size() < 3) continue;
+                UV pc{0, 0};
+                const double a = polygon_area(piece, &pc);
+                if (!(a > 0)) continue;
+                const double share = a3 * a / a_uv;
+                int q = square[t];
+                Transition F = into[t];
+                if ((i != 0 || j != 0) && !walk(L.cage, &q, &F, c, pc)) {
+                    lost += share;
+                    continue;
+                }
+                out.patch_area[q] += share;
+            }
+    }
+    out.unattributed_fraction = total > 0 ? lost / total : 0;
+    const auto [lo, hi] = std::minmax_element(out.patch_area.begin(), out.patch_area.end());
+    out.max_over_min = *lo > 0 ? *hi / *lo : kInfinity;
+    return out;
+}
+
+
+namespace {
+
+// A point of a triangle's boundary while it is cut: its vertex, (u, v) in the triangle's chart and
+// the lattice lines it lies on (line key: axis + 2 * (value + 2^20)).
+struct CutPoint {
+    int vertex = -1;
+    UV uv{0, 0};
+    std::array<long, 2> lines{-1, -1};
+};
+
+long line_key(int axis, long value) {
+    return axis + 2 * (value + (1L << 20));
+}
+
+bool on_line(const CutPoint& p, long key) {
+    return p.lines[0] == key || p.lines[1] == key;
+}
+
+// Twice the signed area of a polygon given by cut points.
+double area2_of(const std::vector<CutPoint>& poly) {
+    double a = 0;
+    for (size_t i = 0; i < poly.size(); ++i) a += cross2(poly[i].uv, poly[(i + 1) % poly.size()].uv);
+    return a;
+}
+
+// Ear clipping of a convex polygon whose sides may hold collinear points: each ear and what remains
+// keep a positive area. False if stuck.
+bool triangulate_convex(std::vector<CutPoint> poly, std::vector<std::array<CutPoint, 3>>* out) {
+    while (poly.size() > 3) {
+        const size_t n = poly.size();
+        bool clipped = false;
+        for (size_t i = 0; i < n && !clipped; ++i) {
+            const std::array<CutPoint, 3> ear{poly[(i + n - 1) % n], poly[i], poly[(i + 1) % n]};
+            if (!(signed_area2({ear[0].uv, ear[1].uv, ear[2].uv}) > 0)) continue;
+            std::vector<CutPoint> rest = poly;
+            rest.erase(rest.begin() + static_cast<long>(i));
+            if (!(area2_of(rest) > 0)) continue;
+            bool convex = true;  // every corner of what remains turns left or goes straight
+            for (size_t j = 0; j < rest.size() && convex; ++j)
+                convex = signed_area2({rest[(j + rest.size() - 1) % rest.size()].uv, rest[j].uv,
+                                       rest[(j + 1) % rest.size()].uv}) >= 0;
+            if (!convex) continue;
+            out->push_back(ear);
+            poly = std::move(rest);
+            clipped = true;
+        }
+        if (!clipped) return false;
+    }
+    if (!(signed_area2({poly[0].uv, poly[1].uv, poly[2].uv}) > 0)) return false;
+    out->push_back({poly[0], poly[1], poly[2]});
+    return true;
+}
+
+}  // namespace
+
+std::string extract_layout(const QuadLayout& L, const SeamlessMap& map_in, QuadLayout* result) {
+    const Mesh& mesh = L.mesh;
+    const int nt = mesh.num_triangles();
+    const Surface s(mesh);
+    // Coordinates within rounding of an integer lie on that iso-line. Transitions are integer, so all
+    // copies of a vertex snap alike.
+    SeamlessMap map = map_in;
+    for (auto& tri : map.uv)
+        for (UV& p : tri)
+            for (double& x : p)
+                if (std::abs(x - std::round(x)) < 1e-7) x = std::round(x);
+    for (int t = 0; t < nt; ++t)
+        if (!(signed_area2(map.uv[t]) > 0)) return "triangle " + std::to_string(t) + " flips once snapped to the iso-lines";
+    const Attribution at = attribute_triangles(L, s, map);
+    for (int t = 0; t < nt; ++t)
+        if (at.square[t] < 0) return "triangle " + std::to_string(t) + " lies in no square";
+
+    // Crossings of every mesh edge with the iso-lines, in the chart of its lower half-edge's
+    // triangle, ordered from that half-edge's start; each a new vertex.
+    struct Crossing {
+        double s = 0;
+        int vertex = -1;
+        int axis = 0;
+        long value = 0;
+    };
+    Mesh out_mesh = mesh;
+    std::vector<std::vector<Crossing>> crossings(s.num_half_edges());
+    for (int h = 0; h < s.num_half_edges(); ++h) {
+        if (h > s.twin(h)) continue;
+        const UV a = map.uv[h / 3][h % 3], b = map.uv[h / 3][(h % 3 + 1) % 3];
+        std::vector<Crossing>& list = crossings[h];
+        for (int axis = 0; axis < 2; ++axis) {
+            const double lo = std::min(a[axis], b[axis]), hi = std::max(a[axis], b[axis]);
+            for (double k = std::floor(lo) + 1; k < hi; ++k)
+                list.push_back({(k - a[axis]) / (b[axis] - a[axis]), -1, axis, static_cast<long>(k)});
+        }
+        std::sort(list.begin(), list.end(), [](const Crossing& x, const Crossing& y) { return x.s < y.s; });
+        for (size_t i = 0; i < list.size(); ++i) {
+            if (i > 0 && !(list[i].s > list[i - 1].s)) return "an iso-line crossing (a cone) lies inside a mesh edge";
+            const Vec3& pa = mesh.points[s.from(h)];
+            const Vec3& pb = mesh.points[s.to(h)];
+            list[i].vertex = out_mesh.num_vertices();
+            out_mesh.points.push_back(pa + (pb - pa) * list[i].s);
+        }
+    }
+
+    // Cut each triangle along the iso-lines into convex pieces; triangulate them.
+    std::vector<Triangle> new_triangles;
+    std::vector<int> new_patch;
+    std::vector<std::array<UV, 3>> new_square_uv;  // in the patch's square
+    for (int t = 0; t < nt; ++t) {
+        std::vector<CutPoint> poly;
+        for (int k = 0; k < 3; ++k) {
+            CutPoint v;
+            v.vertex = mesh.triangles[t][k];
+            v.uv = map.uv[t][k];
+            int slot = 0;
+            for (int axis = 0; axis < 2; ++axis)
+                if (v.uv[axis] == std::round(v.uv[axis]))
+                    v.lines[slot++] = line_key(axis, std::lround(v.uv[axis]));
+            poly.push_back(v);
+            const int h = 3 * t + k;
+            const bool mine = h < s.twin(h);
+            const std::vector<Crossing>& list = crossings[mine ? h : s.twin(h)];
+            const Transition T = mine ? Transition{} : map.across[h];  // canonical chart -> t's chart
+            const UV& a = map.uv[t][k];
+            const UV& b = map.uv[t][(k + 1) % 3];
+            for (size_t i = 0; i < list.size(); ++i) {
+                const Crossing& c = mine ? list[i] : list[list.size() - 1 - i];
+                const double f = mine ? c.s : 1 - c.s;
+                CutPoint p;
+                p.vertex = c.vertex;
+                p.uv = {a[0] + f * (b[0] - a[0]), a[1] + f * (b[1] - a[1])};
+                // The iso-line in t's chart: where the canonical one goes under T.
+                const UV dir = T.rotate(c.axis == 0 ? UV{0, 1} : UV{1, 0});
+                const int axis = dir[0] == 0 ? 0 : 1;
+                const UV on = T.apply(c.axis == 0 ? UV{static_cast<double>(c.value), 0} : UV{0, static_cast<double>(c.value)});
+                p.uv[axis] = on[axis];
+                p.lines[0] = line_key(axis, std::lround(on[axis]));
+                poly.push_back(p);
+            }
+        }
+        std::vector<long> lines;
+        for (const CutPoint& p : poly)
+            for (long key : p.lines)
+                if (key >= 0) lines.push_back(key);
+        std::sort(lines.begin(), lines.end());
+        lines.erase(std::unique(lines.begin(), lines.end()), lines.end());
+        std::vector<std::vector<CutPoint>> pieces{poly};
+        for (long key : lines) {
+            std::vector<std::vector<CutPoint>> next;
+            for (auto& piece : pieces) {
+                std::vector<size_t> at_line;
+                for (size_t i = 0; i < piece.size(); ++i)
+                    if (on_line(piece[i], key)) at_line.push_back(i);
+                const size_t n = piece.size();
+                const bool run = at_line.size() >= 2 && [&] {  // consecutive points: a side along the line
+                    size_t breaks = 0;
+                    for (size_t j = 0; j < at_line.size(); ++j)
+                        if ((at_line[j] + 1) % n != at_line[(j + 1) % at_line.size()]) ++breaks;
+                    return breaks <= 1;
+                }();
+                if (at_line.size() < 2 || run) {
+                    next.push_back(std::move(piece));
+                    continue;
+                }
+                if (at_line.size() != 2) return "an iso-line meets triangle " + std::to_string(t) + " more than twice";
+                const size_t i = at_line[0], j = at_line[1];
+                next.emplace_back(piece.begin() + static_cast<long>(i), piece.begin() + static_cast<long>(j) + 1);
+                std::vector<CutPoint> other(piece.begin() + static_cast<long>(j), piece.end());
+                other.insert(other.end(), piece.begin(), piece.begin() + static_cast<long>(i) + 1);
+                next.push_back(std::move(other));
+            }
+            pieces = std::move(next);
+        }
+        const UV c0 = at.into[t].apply(centroid_of(map.uv[t]));
+        for (const auto& piece : pieces) {
+            std::vector<std::array<CutPoint, 3>> tris;
+            if (!triangulate_convex(piece, &tris)) return "a piece of triangle " + std::to_string(t) + " cannot be triangulated";
+            for (const auto& tri : tris) {
+                int q = at.square[t];
+                Transition F = at.into[t];
+                const std::array<UV, 3> own{tri[0].uv, tri[1].uv, tri[2].uv};
+                if (!walk(L.cage, &q, &F, c0, F.apply(centroid_of(own))))
+                    return "a piece of triangle " + std::to_string(t) + " lies in no square";
+                std::array<UV, 3> in_square;
+                for (int k = 0; k < 3; ++k) {
+                    in_square[k] = F.apply(own[k]);
+                    if (!inside_square(in_square[k], 1e-6))
+                        return "a piece of triangle " + std::to_string(t) + " leaves its square";
+                    for (double& x : in_square[k]) x = std::clamp(x, 0.0, 1.0);
+                }
+                new_triangles.push_back({tri[0].vertex, tri[1].vertex, tri[2].vertex});
+                new_patch.push_back(q);
+                new_square_uv.push_back(in_square);
+            }
+        }
+    }
+
+    // Layout edges: the new triangles' sides on their square's sides, chained from corner to corner.
+    QuadLayout out;
+    out.mesh = std::move(out_mesh);
+    out.input_vertices = L.input_vertices;
+    out.genus = L.genus;
+    out.cage = L.cage;
+    out.corner_vertex = map.cone_vertex;
+    for (int c = 0; c < out.cage.num_corners(); ++c) out.cage.points[c] = mesh.points[out.corner_vertex[c]];
+    out.triangle_patch = new_patch;
+    out.mesh.triangles = new_triangles;
+    const int ne = L.cage.num_edges();
+    std::vector<std::unordered_map<int, int>> next(ne);  // per cage edge: a -> b along its first quad's side
+    for (size_t f = 0; f < new_triangles.size(); ++f) {
+        const int q = new_patch[f];
+        for (int k = 0; k < 3; ++k) {
+            const UV& a = new_square_uv[f][k];
+            const UV& b = new_square_uv[f][(k + 1) % 3];
+            int side = -1;
+            if (a[1] == 0 && b[1] == 0) side = 0;
+            else if (a[0] == 1 && b[0] == 1) side = 1;
+            else if (a[1] == 1 && b[1] == 1) side = 2;
+            else if (a[0] == 0 && b[0] == 0) side = 3;
+            if (side < 0) continue;
+            const int e = L.cage.quads[q].edges[side];
+            if (L.cage.edges[e].quads[0] != q || L.cage.edges[e].sides[0] != side) continue;
+            if (!next[e].emplace(new_triangles[f][k], new_triangles[f][(k + 1) % 3]).second)
+                return "the iso-line of layout edge " + std::to_string(e) + " branches at vertex " +
+                       std::to_string(new_triangles[f][k]);
+        }
+    }
+    out.edge_paths.resize(ne);
+    for (int e = 0; e < ne; ++e) {
+        const auto& edge = L.cage.edges[e];
+        const auto& quad = L.cage.quads[edge.quads[0]];
+        const int from = out.corner_vertex[quad.corners[edge.sides[0]]];
+        const int to = out.corner_vertex[quad.corners[(edge.sides[0] + 1) % 4]];
+        std::vector<int> path{from};
+        while (path.back() != to && path.size() <= next[e].size()) {
+            const auto it = next[e].find(path.back());
+            if (it == next[e].end()) return "the iso-line of layout edge " + std::to_string(e) + " breaks off";
+            path.push_back(it->second);
+        }
+        if (path.back() != to || path.size() != next[e].size() + 1)
+            return "the iso-line of layout edge " + std::to_string(e) + " does not run from corner to corner";
+        if (from != out.corner_vertex[edge.corners[0]]) std::reverse(path.begin(), path.end());
+        out.edge_paths[e] = std::move(path);
+    }
+
+    // The cycles follow their split mesh edges.
+    auto split_cycle = [&](const Cycle& c) {
+        Cycle r;
+        for (size_t i = 0; i < c.size(); ++i) {
+            r.push_back(c[i]);
+            const int h = s.find_half_edge(c[i], c[(i + 1) % c.size()]);
+            if (h < 0) continue;
+            const bool mine = h < s.twin(h);
+            const std::vector<Crossing>& list = crossings[mine ? h : s.twin(h)];
+            for (size_t j = 0; j < list.size(); ++j) r.push_back((mine ? list[j] : list[list.size() - 1 - j]).vertex);
+        }
+        return r;
+    };
+    for (const Cycle& c : L.orthogonal_system) out.orthogonal_system.push_back(split_cycle(c));
+    for (const Cycle& c : L.s_cycles) {
+        std::vector<char> in(mesh.num_vertices(), 0);
+        for (int v : c) in[v] = 1;
+        std::vector<int> edges;
+        for (int e = 0; e < ne; ++e)
+            if (std::all_of(L.edge_paths[e].begin(), L.edge_paths[e].end(), [&](int v) { return in[v] != 0; }))
+                edges.push_back(e);
+        if (edges.size() != 2) return "an S-cycle is not two layout edges";
+        Cycle r = out.edge_paths[edges[0]];
+        std::vector<int> second = out.edge_paths[edges[1]];
+        if (second.front() != r.back()) std::reverse(second.begin(), second.end());
+        r.insert(r.end(), second.begin() + 1, second.end() - 1);
+        out.s_cycles.push_back(r);
+    }
+
+    parameterize_patches(&out);
+    if (const std::string problem = verify_quad_layout(out); !problem.empty()) return "the extracted layout fails its check: " + problem;
+    *result = std::move(out);
+    return "";
+}
+
+
+void embedding_stage(QuadLayout* layout, const EmbeddingOptions& options, int cone_sweeps, bool extract,
+                     const std::function<void(const std::string&)>& say) {
+    say("optimising the embedding");
+    SeamlessMap map;
+    EmbeddingReport r = optimize_embedding(*layout, options, &map);
+    if (cone_sweeps > 0) {
+        const double e0 = r.final_energy;
+        const int moves = relocate_cones(*layout, options, cone_sweeps, 3, &map, &r);
+        char l[200];
+        std::snprintf(l, sizeof l, "embedding: cone relocation: %d moves, energy %.4g -> %.4g", moves, e0, r.final_energy);
+        say(l);
+    }
+    const AreaPotential a = measure_area_potential(*layout, map);
+    char line[512];
+    std::snprintf(line, sizeof line,
+                  "embedding: %d iterations (%s), %d unknowns, energy %.4g -> %.4g, %d flipped, transition error %.1e, "
+                  "%.2f s; patch area max/min %.3g -> %.3g if extracted (%.2g%% of the area unattributed)",
+                  r.iterations, r.message.c_str(), r.variables, r.initial_energy, r.final_energy, r.flipped_triangles,
+                  r.transition_error, r.seconds, a.before_max_over_min, a.max_over_min, 100 * a.unattributed_fraction);
+    say(line);
+    if (!extract) return;
+    QuadLayout extracted;
+    const std::string problem = extract_layout(*layout, map, &extracted);
+    if (!problem.empty()) {
+        say("embedding: keeping the layout as it was: " + problem);
+        return;
+    }
+    measure_quality(&extracted);
+    measure_quality(layout);
+    std::snprintf(line, sizeof line,
+                  "embedding: extracted layout: patch area max/min %.3g (was %.3g), corner angle deviation mean %.1f deg "
+                  "(was %.1f), %d vertices (was %d)",
+                  extracted.quality.patch_area_max_over_min, layout->quality.patch_area_max_over_min,
+                  extracted.quality.corner_angle_mean_deviation_deg, layout->quality.corner_angle_mean_deviation_deg,
+                  extracted.mesh.num_vertices(), layout->mesh.num_vertices());
+    say(line);
+    if (extracted.quality.patch_area_max_over_min < layout->quality.patch_area_max_over_min) {
+        *layout = std::move(extracted);
+        say("embedding: keeping the extracted layout");
+    } else {
+        say("embedding: keeping the layout as it was: the extracted one is no better balanced");
+    }
+}
+
+}  // namespace quadcage::layout::detail

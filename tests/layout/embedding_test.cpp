@@ -1,0 +1,186 @@
+// The global embedding optimisation (issue #20): transitions between the cage's unit squares, the
+// seamless map optimised over them, and the area it puts into each square, on generated shapes.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+#include "detail/embedding.h"
+#include "detail/patches.h"
+#include "quadcage/core/mesh.h"
+#include "quadcage/core/shapes.h"
+#include "quadcage/layout/quad_layout.h"
+
+namespace quadcage::layout::detail {
+namespace {
+
+const QuadLayout& plate_layout() {
+    static const QuadLayout layout = build_quad_layout(shapes::plate_with_holes(2));
+    return layout;
+}
+
+const QuadLayout& torus_layout() {
+    static const QuadLayout layout = build_quad_layout(shapes::torus(48, 16));
+    return layout;
+}
+
+TEST(LayoutEmbedding, TransitionsGlueSidesAndInvert) {
+    for (const QuadLayout* L : {&plate_layout(), &torus_layout()}) {
+        for (int q = 0; q < L->cage.num_quads(); ++q)
+            for (int k = 0; k < 4; ++k) {
+                int nb = -1;
+                const Transition T = side_transition(L->cage, q, k, &nb);
+                const auto& edge = L->cage.edges[L->cage.quads[q].edges[k]];
+                const int slot = edge.quads[0] == q && edge.sides[0] == k ? 0 : 1;
+                const int other = edge.sides[1 - slot];
+                ASSERT_EQ(nb, edge.quads[1 - slot]);
+                // The side's points go to the neighbour's side, walked the other way.
+                for (double t : {0.0, 0.3, 1.0}) {
+                    const UV a = T.apply(side_point(k, t)), b = side_point(other, 1 - t);
+                    EXPECT_NEAR(a[0], b[0], 1e-15);
+                    EXPECT_NEAR(a[1], b[1], 1e-15);
+                }
+                // The square's centre goes to the far side of that side: outside the neighbour's square.
+                const UV c = T.apply({0.5, 0.5});
+                EXPECT_TRUE(c[0] < 0 || c[0] > 1 || c[1] < 0 || c[1] > 1);
+                // Back across the same side: the identity.
+                int back = -1;
+                const Transition R = side_transition(L->cage, nb, other, &back);
+                EXPECT_EQ(back, q);
+                const Transition I = T.then(R);
+                EXPECT_EQ(I.quarter_turns, 0);
+                EXPECT_EQ(I.t[0], 0);
+                EXPECT_EQ(I.t[1], 0);
+                const Transition J = T.then(T.inverse());
+                EXPECT_EQ(J.quarter_turns, 0);
+                EXPECT_EQ(J.t[0], 0);
+                EXPECT_EQ(J.t[1], 0);
+            }
+    }
+}
+
+TEST(LayoutEmbedding, WithoutIterationsTheAreaPotentialIsTheLayoutsOwn) {
+    const QuadLayout& L = plate_layout();
+    EmbeddingOptions o;
+    o.iterations = 0;
+    SeamlessMap map;
+    const EmbeddingReport r = optimize_embedding(L, o, &map);
+    EXPECT_EQ(r.iterations, 0);
+    EXPECT_LT(r.transition_error, 1e-12);
+    const AreaPotential a = measure_area_potential(L, map);
+    EXPECT_NEAR(a.max_over_min, a.before_max_over_min, 1e-9 * a.before_max_over_min);
+    EXPECT_LT(a.unattributed_fraction, 1e-12);
+}
+
+class LayoutEmbeddingOptimised : public ::testing::TestWithParam<int> {};
+
+TEST_P(LayoutEmbeddingOptimised, LowersTheEnergyFlipsNothingAndStaysSeamless) {
+    const QuadLayout& L = GetParam() == 1 ? torus_layout() : plate_layout();
+    EmbeddingOptions o;
+    o.iterations = 10;
+    SeamlessMap map;
+    const EmbeddingReport r = optimize_embedding(L, o, &map);
+    EXPECT_GT(r.iterations, 0) << r.message;
+    EXPECT_LT(r.final_energy, r.initial_energy);
+    EXPECT_GE(r.final_energy, 4.0 - 1e-9);  // symmetric Dirichlet is >= 4, = 4 only for isometries
+    EXPECT_EQ(r.flipped_triangles, 0);
+    EXPECT_LT(r.transition_error, 1e-9);
+    ASSERT_EQ(map.uv.size(), L.corner_uv.size());
+    // Corners stay at their square corners.
+    for (size_t t = 0; t < map.uv.size(); ++t)
+        for (int k = 0; k < 3; ++k)
+            for (int c : L.corner_vertex)
+                if (L.mesh.triangles[t][k] == c) {
+                    EXPECT_EQ(map.uv[t][k][0], L.corner_uv[t][k][0]);
+                    EXPECT_EQ(map.uv[t][k][1], L.corner_uv[t][k][1]);
+                }
+    // All the area lands somewhere (how evenly is the benchmark's business: tools/bench/embedding.sh).
+    const AreaPotential a = measure_area_potential(L, map);
+    EXPECT_LT(a.unattributed_fraction, 1e-9);
+    double sum = 0;
+    for (double x : a.patch_area) sum += x;
+    EXPECT_NEAR(sum, surface_area(L.mesh), 1e-9 * sum);
+}
+
+TEST_P(LayoutEmbeddingOptimised, ExtractedIsoLinesFormAVerifiedLayoutWithTheSameCage) {
+    const QuadLayout& L = GetParam() == 1 ? torus_layout() : plate_layout();
+    EmbeddingOptions o;
+    o.iterations = 10;
+    SeamlessMap map;
+    optimize_embedding(L, o, &map);
+    const AreaPotential a = measure_area_potential(L, map);
+    QuadLayout X;
+    ASSERT_EQ(extract_layout(L, map, &X), "");
+    EXPECT_EQ(verify_quad_layout(X), "");
+    // The input's points first and unmoved; the same cage and corners.
+    ASSERT_GE(X.mesh.num_vertices(), L.mesh.num_vertices());
+    for (int v = 0; v < L.mesh.num_vertices(); ++v) ASSERT_EQ(X.mesh.points[v], L.mesh.points[v]);
+    EXPECT_EQ(X.corner_vertex, L.corner_vertex);
+    EXPECT_EQ(X.cage.num_quads(), L.cage.num_quads());
+    EXPECT_EQ(X.s_cycles.size(), L.s_cycles.size());
+    EXPECT_EQ(X.orthogonal_system.size(), L.orthogonal_system.size());
+    // Its patches have the areas the map put into the squares.
+    std::vector<double> area(X.cage.num_quads(), 0);
+    for (int t = 0; t < X.mesh.num_triangles(); ++t) area[X.triangle_patch[t]] += triangle_area(X.mesh, t);
+    for (int q = 0; q < X.cage.num_quads(); ++q) EXPECT_NEAR(area[q], a.patch_area[q], 1e-9 * surface_area(X.mesh));
+}
+
+TEST(LayoutEmbedding, ExtractionRejectsAFlippedMap) {
+    const QuadLayout& L = plate_layout();
+    SeamlessMap map;
+    optimize_embedding(L, EmbeddingOptions{}, &map);
+    std::swap(map.uv[0][1], map.uv[0][2]);
+    QuadLayout X;
+    EXPECT_NE(extract_layout(L, map, &X), "");
+}
+
+TEST(LayoutEmbedding, TheDriversStageVerifiesAndSaysWhatItKept) {
+    QuadLayoutOptions o;
+    o.embedding_iterations = 10;
+    o.embedding_extract = true;
+    std::string said;
+    o.progress = [&said](const std::string& line) { said += line + "\n"; };
+    const QuadLayout L = build_quad_layout(shapes::plate_with_holes(2), o);
+    EXPECT_EQ(verify_quad_layout(L), "");
+    EXPECT_NE(said.find("embedding: extracted layout"), std::string::npos) << said;
+    EXPECT_NE(said.find("embedding: keeping"), std::string::npos) << said;
+}
+
+TEST(LayoutEmbedding, ConeRelocationLowersTheEnergyAndStillExtracts) {
+    const QuadLayout& L = plate_layout();
+    SeamlessMap map;
+    const EmbeddingReport before = optimize_embedding(L, EmbeddingOptions{}, &map);
+    EmbeddingReport after;
+    const int moves = relocate_cones(L, EmbeddingOptions{}, 3, 3, &map, &after);
+    EXPECT_LE(after.final_energy, before.final_energy);
+    if (moves > 0) {
+        EXPECT_LT(after.final_energy, before.final_energy);
+    }
+    EXPECT_EQ(after.flipped_triangles, 0);
+    EXPECT_LT(after.transition_error, 1e-9);
+    QuadLayout X;
+    ASSERT_EQ(extract_layout(L, map, &X), "");
+    EXPECT_EQ(verify_quad_layout(X), "");
+    EXPECT_EQ(X.corner_vertex, map.cone_vertex);
+}
+
+TEST(LayoutEmbedding, OptionsRejectNegativeValues) {
+    QuadLayoutOptions o;
+    o.embedding_iterations = -1;
+    EXPECT_NE(o.validate(), "");
+    o.embedding_iterations = 1;
+    o.embedding_area_weight = -1;
+    EXPECT_NE(o.validate(), "");
+    o.embedding_area_weight = 0;
+    o.embedding_cone_sweeps = -1;
+    EXPECT_NE(o.validate(), "");
+    EmbeddingOptions e;
+    e.iterations = -1;
+    EXPECT_NE(e.validate(), "");
+}
+
+INSTANTIATE_TEST_SUITE_P(Genus, LayoutEmbeddingOptimised, ::testing::Values(1, 2));
+
+}  // namespace
+}  // namespace quadcage::layout::detail
