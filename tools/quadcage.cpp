@@ -58,7 +58,8 @@ int main(int argc, char** argv) {
         ->check(CLI::NonNegativeNumber);
     layout_cmd->add_flag("--embedding-extract", layout.embedding_extract,
                          "With --embedding-iterations: use the optimised map's iso-lines as the layout when\n"
-                         "that layout verifies and is better balanced");
+                         "that layout verifies and has a smaller patch area max/min (the corner angles are not\n"
+                         "compared: on the shared meshes they got worse, 17-25 -> 38-57 deg mean deviation)");
     layout_cmd
         ->add_option("--embedding-area-weight", layout.embedding_area_weight,
                      "Weight of the embedding's area term over symmetric Dirichlet (default 0): higher\n"
