@@ -177,8 +177,9 @@ QuadLayout build_quad_layout(const Mesh& input, const QuadLayoutOptions& options
             else
                 net = network_of_cube(b, say);
 
-            // Room for the patch maps: no mesh edge may join two boundary vertices of a patch without
-            // being a layout edge. The orthogonal system is no obstacle any more.
+            // Room for the patch maps: no mesh edge may join two points of one patch side without
+            // being a layout edge (split below, once the layout edges are known; edges between two
+            // different sides need no room). The orthogonal system is no obstacle any more.
             say("patches");
             std::vector<char> layout_curve(b.curves_.size(), 0);
             for (const auto& [id, cs] : net.closed) layout_curve[id] = 1;
@@ -208,8 +209,6 @@ QuadLayout build_quad_layout(const Mesh& input, const QuadLayoutOptions& options
                     remove_hairpins(b.s_, b.curves_[c], b.closed_[c], dirty, corner);
                 }
             }
-            b.split_chords();
-
             // Layout edges: each closed curve cut at its two corners, then the arcs.
             auto edge_paths_of = [&](const Builder& bb, const Network& nn) {
                 std::vector<std::vector<int>> paths;
@@ -227,6 +226,7 @@ QuadLayout build_quad_layout(const Mesh& input, const QuadLayoutOptions& options
                 for (int id : nn.arcs) paths.push_back(bb.curves_[id]);
                 return paths;
             };
+            b.split_dividing_chords(edge_paths_of(b, net));
             // The cage, patches and maps of a network, verified; "" or what fails. Times the maps
             // and the check of the last call.
             double mapped_seconds = 0, checked_seconds = 0;
@@ -289,7 +289,7 @@ QuadLayout build_quad_layout(const Mesh& input, const QuadLayoutOptions& options
                         }
                         for (size_t a = 0; a < net.arcs.size(); ++a)
                             rn.arcs.push_back(relaxed.add_curve(moved[k++], false, true));
-                        relaxed.split_chords();
+                        relaxed.split_dividing_chords(edge_paths_of(relaxed, rn));
                         QuadLayout trial = out;
                         const std::string problem = finish(relaxed, rn, &trial);
                         if (problem.empty()) {
