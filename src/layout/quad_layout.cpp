@@ -126,6 +126,10 @@ std::string QuadLayoutOptions::validate() const {
     return cycles.validate();
 }
 
+long long vertices_added_bound(int input_vertices, int corners) {
+    return static_cast<long long>(input_vertices) / 4 + 200LL * corners;
+}
+
 QuadLayout build_quad_layout(const Mesh& input, const QuadLayoutOptions& options) {
     if (const std::string e = options.validate(); !e.empty()) throw InvalidInput("quad layout options: " + e);
     const Say say = [&options](const std::string& m) {
@@ -146,9 +150,16 @@ QuadLayout build_quad_layout(const Mesh& input, const QuadLayoutOptions& options
                  : report.error_summary()));
     // Coarse meshes get room first (1-to-4 splits: input vertices stay, in order; new ones at edge
     // midpoints): every handle needs its 2 loops, 4 S-cycles and their arcs to pass one another.
+    // A split adds a vertex per edge (about 3 per vertex): it is made only while the refinement
+    // bound allows it (eight.off: 766 vertices, 2304 more after a split, bound 1792); the routes
+    // make their own room where they pass.
     const int genus = report.components[0].genus;
+    const int corners = genus >= 2 ? 8 * genus - 8 : (genus == 1 ? 4 : 8);
+    const long long room_budget = vertices_added_bound(input.num_vertices(), corners);
     Mesh mesh = input;
-    while (mesh.num_vertices() < 1000 + 200 * genus) mesh = subdivide_midpoint(mesh);
+    while (mesh.num_vertices() < 1000 + 200 * genus &&
+           mesh.num_vertices() + 3LL * mesh.num_triangles() / 2 - input.num_vertices() <= room_budget)
+        mesh = subdivide_midpoint(mesh);
     // Builds the cycles (none for a sphere).
     OrthogonalSystem system = build_orthogonal_system(mesh, cycle_options);
     const int g = system.genus;
@@ -318,6 +329,11 @@ QuadLayout build_quad_layout(const Mesh& input, const QuadLayoutOptions& options
             for (int id : s_cycle_ids) out.s_cycles.push_back(b.curves_[id]);
             const double t_quality = clock();
             detail::measure_quality(&out);
+            const long long added = out.mesh.num_vertices() - out.input_vertices;
+            const long long bound = vertices_added_bound(out.input_vertices, out.cage.num_corners());
+            if (added > bound)
+                say("refinement: " + std::to_string(added) + " vertices added, over the bound of " +
+                    std::to_string(bound) + " (a quarter of the input's plus 200 per corner)");
             const double t_end = clock();
             const double checked = checked_seconds + (t_end - t_quality);
             out.seconds = {t_cycles, t_end - t_cycles - mapped_seconds - checked, mapped_seconds, checked};
