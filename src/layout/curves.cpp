@@ -5,6 +5,8 @@
 #include <limits>
 #include <map>
 #include <memory>
+#include <queue>
+#include <unordered_map>
 #include <unordered_set>
 
 #include "quadcage/core/errors.h"
@@ -94,6 +96,31 @@ int Builder::split_chords(const std::vector<Cycle>& extra) {
     return static_cast<int>(chords.size());
 }
 
+int Builder::split_dividing_chords(const std::vector<std::vector<int>>& paths) {
+    // Per vertex, the paths through it (a corner is on several).
+    std::vector<std::vector<int>> on(s_.num_vertices());
+    std::unordered_set<std::uint64_t> path_edges;
+    for (size_t p = 0; p < paths.size(); ++p) {
+        for (int v : paths[p])
+            if (on[v].empty() || on[v].back() != static_cast<int>(p)) on[v].push_back(static_cast<int>(p));
+        for (size_t i = 0; i + 1 < paths[p].size(); ++i) path_edges.insert(edge_key(paths[p][i], paths[p][i + 1]));
+    }
+    auto share_a_path = [&](int a, int b) {
+        for (int p : on[a])
+            if (std::find(on[b].begin(), on[b].end(), p) != on[b].end()) return true;
+        return false;
+    };
+    std::vector<std::pair<int, int>> chords;
+    for (int h = 0; h < s_.num_half_edges(); ++h) {
+        const int a = s_.from(h), b = s_.to(h);
+        if (a < b && !on[a].empty() && !on[b].empty() && !path_edges.count(edge_key(a, b)) && share_a_path(a, b))
+            chords.push_back({a, b});
+    }
+    if (chords.empty()) return 0;
+    split_curve_edges(chords);
+    return static_cast<int>(chords.size());
+}
+
 int Builder::split_chords_around(const std::vector<char>& reached) {
     const std::vector<char> on = blocked();
     const std::unordered_set<std::uint64_t> curve_edges = obstacle_edges();
@@ -135,6 +162,116 @@ int Builder::split_chords_around(const std::vector<char>& reached) {
     std::sort(chords.begin(), chords.end());
     split_curve_edges(chords);
     return static_cast<int>(chords.size());
+}
+
+int Builder::open_route(int x, const std::vector<int>& from_sector, int y, const std::vector<int>& to_sector,
+                        const std::vector<char>& block, const std::function<double(int)>& cost) {
+    // A step through a chord's midpoint costs this many times its length: far above any walk
+    // that needs no split, so the route crosses as few chords as it can.
+    constexpr double kCrossing = 64.0;
+    const std::unordered_set<std::uint64_t> curve_edges = obstacle_edges();
+    const int n = s_.num_vertices();
+    // Nodes: the vertices [0, n), then one per chord met (its midpoint, once split). Moves that
+    // splitting exactly the chords of a route makes edges of the surface: a free vertex to a chord
+    // opposite it in a triangle (its other two edges touch a free vertex: no chords, not split);
+    // a chord to the free third vertex of one of its triangles; a chord to another chord of one
+    // triangle (a triangle with two or three split edges joins their midpoints).
+    std::unordered_map<std::uint64_t, int> chord_of;
+    std::vector<int> chord_half_edge;
+    auto chord = [&](int h) {
+        const int a = s_.from(h), b = s_.to(h);
+        if (!block[a] || !block[b]) return -1;
+        const std::uint64_t key = edge_key(a, b);
+        if (curve_edges.count(key)) return -1;
+        const auto it = chord_of.find(key);
+        if (it != chord_of.end()) return it->second;
+        chord_half_edge.push_back(h);
+        return chord_of[key] = n + static_cast<int>(chord_half_edge.size()) - 1;
+    };
+    auto position = [&](int node) {
+        if (node < n) return s_.point(node);
+        const int h = chord_half_edge[node - n];
+        return (s_.point(s_.from(h)) + s_.point(s_.to(h))) * 0.5;
+    };
+    auto crossing = [&](int from, int to) { return kCrossing * norm(position(to) - position(from)); };
+    // The nodes a route may leave `centre` to (or arrive from) within a sector: its free vertices,
+    // and the chords from the centre or opposite it in the sector's triangles (those on both sides
+    // of each edge centre-s).
+    auto sector_nodes = [&](int centre, const std::vector<int>& sector, bool leaving) {
+        std::vector<std::pair<int, double>> out;
+        for (int w : sector) {
+            if (!block[w]) {
+                out.push_back({w, leaving ? edge_cost(cost, centre, w) : edge_cost(cost, w, centre)});
+                continue;
+            }
+            const int h = s_.find_half_edge(centre, w);
+            if (const int c = chord(h); c >= 0) out.push_back({c, crossing(centre, c)});
+            for (const int e : {h, s_.twin(h)})
+                for (int k = 0; k < 3; ++k) {
+                    const int o = 3 * (e / 3) + k;
+                    if (s_.from(o) == centre || s_.to(o) == centre) continue;
+                    if (const int c = chord(o); c >= 0) out.push_back({c, crossing(centre, c)});
+                }
+        }
+        return out;
+    };
+    const std::vector<std::pair<int, double>> sources = sector_nodes(x, from_sector, true);
+    const std::vector<std::pair<int, double>> targets = sector_nodes(y, to_sector, false);
+    if (sources.empty() || targets.empty()) return 0;
+    std::unordered_map<int, double> arrival, distance;
+    for (const auto& [v, c] : targets)
+        if (const auto it = arrival.find(v); it == arrival.end() || c < it->second) arrival[v] = c;
+    std::unordered_map<int, int> parent;
+    std::unordered_set<int> done;
+    using Item = std::pair<double, int>;
+    std::priority_queue<Item, std::vector<Item>, std::greater<Item>> heap;
+    auto reach = [&](int from, int to, double d) {
+        if (done.count(to)) return;
+        if (const auto it = distance.find(to); it != distance.end() && it->second <= d) return;
+        distance[to] = d;
+        parent[to] = from;
+        heap.push({d, to});
+    };
+    for (const auto& [v, c] : sources) reach(-1, v, c);
+    double best = std::numeric_limits<double>::infinity();
+    int target = -1;
+    while (!heap.empty()) {
+        const auto [d, v] = heap.top();
+        heap.pop();
+        if (!done.insert(v).second) continue;
+        if (d >= best) break;
+        if (const auto it = arrival.find(v); it != arrival.end() && d + it->second < best) {
+            best = d + it->second;
+            target = v;
+        }
+        if (v < n) {
+            for (int h : s_.out_half_edges(v)) {
+                const int w = s_.to(h);
+                if (!block[w]) reach(v, w, d + (cost ? cost(h) : s_.length(h)));
+                if (const int c = chord(3 * (h / 3) + (h % 3 + 1) % 3); c >= 0)  // the edge opposite v
+                    reach(v, c, d + crossing(v, c));
+            }
+        } else {
+            const int hc = chord_half_edge[v - n];
+            for (const int e : {hc, s_.twin(hc)}) {
+                const int t = e / 3;
+                const int third = s_.mesh().triangles[t][(e % 3 + 2) % 3];
+                if (!block[third]) reach(v, third, d + crossing(v, third));
+                for (int k = 0; k < 3; ++k)
+                    if (const int c = 3 * t + k == e ? -1 : chord(3 * t + k); c >= 0) reach(v, c, d + crossing(v, c));
+            }
+        }
+    }
+    std::vector<std::pair<int, int>> edges;
+    for (int v = target; v >= 0; v = parent.at(v))
+        if (v >= n) {
+            const int h = chord_half_edge[v - n];
+            edges.push_back({std::min(s_.from(h), s_.to(h)), std::max(s_.from(h), s_.to(h))});
+        }
+    if (edges.empty()) return 0;  // no route, or one that needs no split (sector_path() finds those)
+    std::sort(edges.begin(), edges.end());
+    split_curve_edges(edges);
+    return static_cast<int>(edges.size());
 }
 
 void Builder::split_curve_edges(const std::vector<std::pair<int, int>>& edges) {

@@ -79,6 +79,8 @@ json layout_report_object(const LayoutReport& r) {
               {"vertices", r.vertices},
               {"triangles", r.triangles},
               {"vertices_added", r.vertices - r.input_vertices},
+              {"vertices_added_bound", r.vertices_added_bound},
+              {"vertices_added_within_bound", r.vertices - r.input_vertices <= r.vertices_added_bound},
               {"quads", r.quads},
               {"corners", r.corners},
               {"edges", r.edges},
@@ -124,6 +126,7 @@ LayoutReport layout_report(const QuadLayout& L) {
     r.triangles = L.mesh.num_triangles();
     r.quads = L.cage.num_quads();
     r.corners = L.cage.num_corners();
+    r.vertices_added_bound = vertices_added_bound(L.input_vertices, r.corners);
     r.edges = L.cage.num_edges();
     std::vector<int> degree(L.cage.num_corners(), 0);
     for (const auto& e : L.cage.edges)

@@ -76,8 +76,9 @@ std::vector<int> place_s_cycles(Builder& b, int g, const Say& say) {
         say("S-cycle " + std::to_string(k + 1) + " of " + std::to_string(spots.size()) + surface_size(b));
         std::vector<int> path;
         std::vector<char> reached;
+        bool opened = false;
         for (int attempt = 0; attempt <= kRoomAttempts && path.empty(); ++attempt) {
-            if (attempt > 0 && b.open_room(reached, attempt) == 0)
+            if (attempt > 0 && !opened && b.open_room(reached, attempt) == 0)
                 break;  // room on demand, as in route_ring()
             const std::vector<char> block = b.blocked();
             const auto cost = b.cost_near(block, nullptr, kAdjacency);
@@ -85,6 +86,7 @@ std::vector<int> place_s_cycles(Builder& b, int g, const Say& say) {
             const auto [p, n] = neighbours_on(b.curves_[spots[k].curve], u);
             const auto sec = sectors(b.s_, u, p, n);
             path = b.sector_path(u, sec[0], u, sec[1], block, cost, nullptr, &reached);
+            if (path.empty()) opened = b.open_route(u, sec[0], u, sec[1], block, cost) > 0;
         }
         const int u = spots[k].u;
         QC_CHECK(!path.empty(), "no cycle S crosses b at vertex " + std::to_string(u) + " alone");

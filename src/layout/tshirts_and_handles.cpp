@@ -25,11 +25,13 @@ std::optional<std::vector<int>> route_ring(Builder& b, const std::vector<int>& s
     std::vector<int> arcs;
     std::vector<int> label;
     std::vector<char> reached;
+    bool opened = false;  // the last failed search had its route opened (Builder::open_route)
     for (int j = 0, attempt = 0; j < 4; ++attempt) {
-        // Room on demand: chords are split only around a search that found no way (splitting all
-        // chords before every search lets each new curve hug the last: the mesh grows several-fold).
-        if (attempt > 0 && (attempt > kRoomAttempts || b.open_room(reached, attempt) == 0))
-            return std::nullopt;
+        // Room on demand: only the chords a failed search's route must cross are split (splitting
+        // all chords before every search lets each new curve hug the last: the mesh grows
+        // several-fold); the walls round the search only if no route crosses chords alone.
+        if (attempt > kRoomAttempts) return std::nullopt;
+        if (attempt > 0 && !opened && b.open_room(reached, attempt) == 0) return std::nullopt;
         label_pieces(b, s_ids, &label);
         const int piece = label[triangle_beside(b.s_, b.curves_[holes[0].curve], holes[0].side)];
         const std::vector<char> block = b.blocked();
@@ -53,7 +55,10 @@ std::optional<std::vector<int>> route_ring(Builder& b, const std::vector<int>& s
         double cost_total = 0;
         const std::vector<int> interior =
             b.sector_path(x[j], leave, x[jn], arrive, block, cost, &cost_total, &reached);
-        if (interior.empty()) continue;
+        if (interior.empty()) {
+            opened = b.open_route(x[j], leave, x[jn], arrive, block, cost) > 0;
+            continue;
+        }
         Cycle arc{x[j]};
         arc.insert(arc.end(), interior.begin(), interior.end());
         arc.push_back(x[jn]);
@@ -187,9 +192,10 @@ void route_handle(Builder& b, const std::vector<int>& s_ids, const Hole& A, cons
         double length = 0;
         std::vector<int> made;
         std::vector<char> reached;
+        bool opened = false;
         for (int k = 0, attempt = 0; k < 2 && attempt <= kRoomAttempts; ++attempt) {
             const int from = a[k], to = c[(k + twist) % 2];
-            if (attempt > 0 && trial.open_room(reached, attempt) == 0)
+            if (attempt > 0 && !opened && trial.open_room(reached, attempt) == 0)
                 break;  // room on demand, as in route_ring()
             std::vector<int> label;
             label_pieces(trial, s_ids, &label);
@@ -201,7 +207,10 @@ void route_handle(Builder& b, const std::vector<int>& s_ids, const Hole& A, cons
             const auto arrive = side_toward(trial.s_, trial.curves_[B.curve], to, label, piece);
             const std::vector<int> interior =
                 trial.sector_path(from, leave, to, arrive, block, cost, nullptr, &reached);
-            if (interior.empty()) continue;
+            if (interior.empty()) {
+                opened = trial.open_route(from, leave, to, arrive, block, cost) > 0;
+                continue;
+            }
             Cycle arc{from};
             arc.insert(arc.end(), interior.begin(), interior.end());
             arc.push_back(to);

@@ -64,6 +64,8 @@ TEST(LayoutReport, HasEveryFieldWithTheLayoutsValues) {
     EXPECT_EQ(j["vertices"], L.mesh.num_vertices());
     EXPECT_EQ(j["triangles"], L.mesh.num_triangles());
     EXPECT_EQ(j["vertices_added"], L.mesh.num_vertices() - L.input_vertices);
+    EXPECT_EQ(j["vertices_added_bound"], L.input_vertices / 4 + 200 * 8);
+    EXPECT_EQ(j["vertices_added_within_bound"], j["vertices_added"] <= j["vertices_added_bound"]);
     EXPECT_EQ(j["s_cycles"], L.s_cycles.size());
     EXPECT_EQ(j["level1"]["quads"], 40);
     EXPECT_EQ(j["verified"], true);
@@ -73,7 +75,7 @@ TEST(LayoutReport, HasEveryFieldWithTheLayoutsValues) {
     EXPECT_DOUBLE_EQ(j["seconds"]["cycles"].get<double>(), L.seconds.cycles);
     // No run fields unless asked for.
     for (const char* k : {"input", "component", "components", "peak_memory_mib"}) EXPECT_FALSE(j.contains(k)) << k;
-    EXPECT_EQ(j.size(), 15u) << j.dump();
+    EXPECT_EQ(j.size(), 17u) << j.dump();
 }
 
 TEST(LayoutReport, RunFieldsAndDeterministicText) {

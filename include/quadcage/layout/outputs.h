@@ -23,6 +23,7 @@ struct LayoutReport {
     int input_vertices = 0;             ///< Vertices of the component as given.
     int vertices = 0;                   ///< Of QuadLayout::mesh (input vertices + points added on edges).
     int triangles = 0;                  ///< Of QuadLayout::mesh.
+    long long vertices_added_bound = 0; ///< vertices_added_bound() of the input and the cage's corners.
     int quads = 0;                      ///< Cage quads (10g-10, 4 or 6).
     int corners = 0;                    ///< Cage corners.
     int edges = 0;                      ///< Cage edges.
@@ -43,7 +44,8 @@ struct LayoutReport {
     double peak_memory_mib = 0;         ///< Peak resident memory of the process after this layout, MiB.
 
     /// The report as pretty-printed JSON (2-space indent, keys in alphabetical order, a final
-    /// newline): command, genus, input_vertices, vertices, triangles, vertices_added, quads,
+    /// newline): command, genus, input_vertices, vertices, triangles, vertices_added,
+    /// vertices_added_bound, vertices_added_within_bound, quads,
     /// corners, edges, degree_histogram, s_cycles, level1 {quads, vertices}, verified (always true:
     /// build_quad_layout() verifies), quality {...}, seconds {cycles, curves, parameterization,
     /// verification, total}; with `run` also input, component, components, peak_memory_mib.

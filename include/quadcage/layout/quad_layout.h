@@ -104,6 +104,14 @@ struct QuadLayout {
 /// \throw InvalidInput if the precondition fails or the genus exceeds options.cycles.max_genus.
 QuadLayout build_quad_layout(const Mesh& mesh, const QuadLayoutOptions& options = {});
 
+/// How many vertices a layout may add to its input (issue #20): a quarter of the input's vertices
+/// plus 200 per layout corner (8g-8 for g >= 2, 4 for the torus, 8 for the cube). Routing the
+/// curves splits edges for room; within this bound it makes room where curves must pass, beyond
+/// it the refinement cascades (each new curve hugging the room made for the last). Reported as
+/// LayoutReport::vertices_added_bound; build_quad_layout() says so in its progress when a layout
+/// exceeds it (the layout is still valid and returned).
+long long vertices_added_bound(int input_vertices, int corners);
+
 /// Checks a layout: the cage is valid (subdiv::check_cage); counts and degrees are the minimum for
 /// the genus; every patch is a connected disk whose boundary is a simple loop through its 4 corners
 /// in the cage quad's order along the recorded edge paths (paper, rules i-iii); the maps into

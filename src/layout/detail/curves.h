@@ -59,6 +59,13 @@ public:
     /// edge is never a chord). Returns the number of edges split.
     int split_chords(const std::vector<Cycle>& extra = {});
 
+    /// Splits the edges that no path walks along but whose two ends lie on one path (a vertex of
+    /// a path includes its ends). With the paths the sides of quad patches, these are exactly
+    /// the edges that join two points of one side: the ones a convex-boundary Tutte map flattens
+    /// (Floater 2003, "dividing edges"). An edge between two different sides maps to a proper
+    /// chord of the square and needs no split. Returns the number of edges split.
+    int split_dividing_chords(const std::vector<std::vector<int>>& paths);
+
     /// Splits only the chords (as in split_chords()) on the rim of a failed search: chords of a
     /// triangle whose third vertex the search reached. Opens the walls that stopped that search
     /// without refining the rest of the surface. Returns the number of edges split.
@@ -71,6 +78,16 @@ public:
         const int n = attempt % 6 == 0 ? 0 : split_chords_around(reached);
         return n > 0 ? n : split_chords();
     }
+
+    /// Room for a route that sector_path() did not find with the same arguments: a search in which
+    /// a path may also pass through the midpoints of chords (split_chords()), at a cost far above
+    /// any walk along free vertices, finds the route that needs the fewest and shortest chord
+    /// crossings; exactly those chords are split. Splitting more (every chord round the failed
+    /// search, or everywhere) makes corridors the next routes hug, which need splits again: the
+    /// mesh grew several-fold that way. Returns the number of edges split (0: no route even
+    /// through chords).
+    int open_route(int x, const std::vector<int>& from_sector, int y, const std::vector<int>& to_sector,
+                   const std::vector<char>& block, const std::function<double(int)>& cost);
 
     /// Splits the given edges at their midpoints and inserts the midpoints into every curve that
     /// walks along them.
