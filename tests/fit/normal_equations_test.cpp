@@ -157,12 +157,18 @@ TEST(ScopedBlasThreads, SetsTheCountAndRestoresIt) {
     const SetThreads set = openblas_set();
     const GetThreads get = openblas_get();
     if (!set || !get) GTEST_SKIP() << "the BLAS of this process is not OpenBLAS: there is no thread count to pin";
-    set(2);
+    set(3);
     {
         const ScopedBlasThreads blas(1);
         EXPECT_EQ(get(), 1);
     }
-    EXPECT_EQ(get(), 2);
+    EXPECT_EQ(get(), 3);
+    set(1);
+    {
+        const ScopedBlasThreads blas(2);
+        EXPECT_EQ(get(), 2);
+    }
+    EXPECT_EQ(get(), 1);
 }
 
 TEST(ScopedBlasThreads, TheFitEndsInTheSameBitsWhateverBlasThreadsTheProcessHas) {

@@ -6,12 +6,16 @@
 // kernels round differently from its threaded ones: eight.off fitted at level 3 ended in other bits
 // with OPENBLAS_NUM_THREADS=1 than with 2, 3 or 4. A fit's output would then depend on the machine's
 // core count, not only on the input and the options. Within a ScopedBlasThreads the BLAS uses a
-// fixed count, so the fit is the same on every machine (of the same build and libraries).
+// fixed count, so the fit is the same on every machine with the same build, libraries and CPU model
+// (OpenBLAS picks its kernels by CPU model). Two threads: the count the fit was tuned on; one thread
+// made botijo's level-3 factorisations 1.4x slower (solve 2.6 -> 3.7 s). With two threads set at run
+// time the result was the same with the process started on one CPU (taskset), with
+// OPENBLAS_NUM_THREADS=1 and with 8.
 
 namespace quadcage::fit::detail {
 
 /// BLAS threads of the fit's factorisations.
-inline constexpr int kBlasThreads = 1;
+inline constexpr int kBlasThreads = 2;
 
 /// Sets OpenBLAS's thread count to `threads` for the object's lifetime and restores it after. Does
 /// nothing when the BLAS in the process is not OpenBLAS (reference BLAS and ATLAS have no threads
