@@ -27,7 +27,9 @@ constexpr double kInfinity = std::numeric_limits<double>::infinity();
 constexpr int kStart[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
 constexpr int kDirection[4][2] = {{1, 0}, {0, 1}, {-1, 0}, {0, -1}};
 
-std::array<int, 2> rotate_int(int quarter_turns, std::array<int, 2> x) {
+// x turned counter-clockwise by quarter_turns quarter turns (lattice offsets and uv alike).
+template <class T>
+std::array<T, 2> rotated(int quarter_turns, std::array<T, 2> x) {
     for (int i = 0; i < quarter_turns; ++i) x = {-x[1], x[0]};
     return x;
 }
@@ -254,11 +256,7 @@ struct EdgeTransitions {
 
 }  // namespace
 
-UV Transition::rotate(const UV& x) const {
-    UV y = x;
-    for (int i = 0; i < quarter_turns; ++i) y = {-y[1], y[0]};
-    return y;
-}
+UV Transition::rotate(const UV& x) const { return rotated(quarter_turns, x); }
 
 UV Transition::apply(const UV& x) const {
     const UV y = rotate(x);
@@ -268,7 +266,7 @@ UV Transition::apply(const UV& x) const {
 Transition Transition::then(const Transition& next) const {
     Transition r;
     r.quarter_turns = (quarter_turns + next.quarter_turns) % 4;
-    const std::array<int, 2> moved = rotate_int(next.quarter_turns, t);
+    const std::array<int, 2> moved = rotated<int>(next.quarter_turns, t);
     r.t = {moved[0] + next.t[0], moved[1] + next.t[1]};
     return r;
 }
@@ -276,7 +274,7 @@ Transition Transition::then(const Transition& next) const {
 Transition Transition::inverse() const {
     Transition r;
     r.quarter_turns = (4 - quarter_turns) % 4;
-    const std::array<int, 2> back = rotate_int(r.quarter_turns, t);
+    const std::array<int, 2> back = rotated<int>(r.quarter_turns, t);
     r.t = {-back[0], -back[1]};
     return r;
 }
@@ -291,7 +289,7 @@ Transition side_transition(const subdiv::Cage& cage, int q, int k, int* neighbou
     // direction and the normal reversed: a half turn times the turn from side k to side `other`.
     Transition r;
     r.quarter_turns = ((other - k + 2) % 4 + 4) % 4;
-    const std::array<int, 2> s = rotate_int(r.quarter_turns, {kStart[k][0], kStart[k][1]});
+    const std::array<int, 2> s = rotated<int>(r.quarter_turns, {kStart[k][0], kStart[k][1]});
     r.t = {kStart[other][0] + kDirection[other][0] - s[0], kStart[other][1] + kDirection[other][1] - s[1]};
     return r;
 }

@@ -11,8 +11,15 @@ namespace {
 using SetThreads = void (*)(int);
 using GetThreads = int (*)();
 
-SetThreads set_threads() { return reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads")); }
-GetThreads get_threads() { return reinterpret_cast<GetThreads>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads")); }
+// Looked up once: every factorisation of a fit opens a scope.
+SetThreads set_threads() {
+    static const auto f = reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
+    return f;
+}
+GetThreads get_threads() {
+    static const auto f = reinterpret_cast<GetThreads>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads"));
+    return f;
+}
 
 }  // namespace
 
