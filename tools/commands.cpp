@@ -159,6 +159,18 @@ void print_fit_summary(const fit::MeshFit& result, const fit::MeshFitReport& wri
 
 }  // namespace
 
+namespace {
+
+void apply(const EmbeddingFlags& flags, layout::QuadLayoutOptions* options) {
+    options->embedding_iterations = flags.iterations;
+    options->embedding_extract = flags.extract;
+    options->embedding_area_weight = flags.area_weight;
+    options->embedding_conformal_weight = flags.conformal_weight;
+    options->embedding_cone_sweeps = flags.cone_sweeps;
+}
+
+}  // namespace
+
 int run_layout(const LayoutOptions& o) {
     Progress progress(o.quiet);
     OutputDir out(o.output_dir);  // usable, checked before any work
@@ -166,10 +178,7 @@ int run_layout(const LayoutOptions& o) {
     out.expect(layout::layout_output_names(prepared.components.size()), {o.mesh});
     layout::QuadLayoutOptions options;
     options.progress = progress.callback("");
-    options.embedding_iterations = o.embedding_iterations;
-    options.embedding_extract = o.embedding_extract;
-    options.embedding_area_weight = o.embedding_area_weight;
-    options.embedding_cone_sweeps = o.embedding_cone_sweeps;
+    apply(o.embedding, &options);
     const layout::MeshLayout result = layout::build_mesh_layout(prepared, o.mesh, options);
     layout::write_layout_outputs(out, result);
     out.commit();
@@ -192,6 +201,7 @@ int run_fit(const FitCommandOptions& o) {
         cad = fit_cad_stage(o, out, nc, {o.mesh});
         layout::QuadLayoutOptions layout_options;
         layout_options.progress = progress.callback("layout: ");
+        apply(o.embedding, &layout_options);
         result = fit::fit_mesh(prepared, o.mesh, layout_options, options);
     } else {
         progress.say("loading " + o.cage);

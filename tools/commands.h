@@ -24,14 +24,21 @@ struct CyclesOptions {
 };
 int run_cycles(const CyclesOptions& options);
 
+/// The experimental embedding stage's flags (issue #20), shared by `layout` and `fit`; each is the
+/// layout::QuadLayoutOptions field of the same name with the embedding_ prefix.
+struct EmbeddingFlags {
+    int iterations = 0;
+    bool extract = false;
+    double area_weight = 0;
+    double conformal_weight = 0;
+    int cone_sweeps = 0;
+};
+
 struct LayoutOptions {
     std::string mesh;
     std::string output_dir;
     bool quiet = false;  ///< No progress on stderr.
-    int embedding_iterations = 0;  ///< layout::QuadLayoutOptions::embedding_iterations.
-    bool embedding_extract = false;  ///< layout::QuadLayoutOptions::embedding_extract.
-    double embedding_area_weight = 0;  ///< layout::QuadLayoutOptions::embedding_area_weight.
-    int embedding_cone_sweeps = 0;     ///< layout::QuadLayoutOptions::embedding_cone_sweeps.
+    EmbeddingFlags embedding;
 };
 int run_layout(const LayoutOptions& options);
 
@@ -49,6 +56,7 @@ struct FitCommandOptions {
     double cad_tolerance = 1e-5;  ///< --cad-tolerance T (relative to the diagonal).
     bool json = false;        ///< Print report.json instead of the summary.
     bool quiet = false;       ///< No progress on stderr.
+    EmbeddingFlags embedding;  ///< For the layout (not with --cage).
 };
 int run_fit(const FitCommandOptions& options);
 

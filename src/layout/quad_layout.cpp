@@ -130,6 +130,8 @@ std::string QuadLayoutOptions::validate() const {
         return "embedding_cone_sweeps must be >= 0, got " + std::to_string(embedding_cone_sweeps);
     if (!(embedding_area_weight >= 0) || !std::isfinite(embedding_area_weight))
         return "embedding_area_weight must be finite and >= 0";
+    if (!(embedding_conformal_weight >= 0) || !std::isfinite(embedding_conformal_weight))
+        return "embedding_conformal_weight must be finite and >= 0";
     return cycles.validate();
 }
 
@@ -335,6 +337,7 @@ QuadLayout build_quad_layout(const Mesh& input, const QuadLayoutOptions& options
                 detail::EmbeddingOptions eo;
                 eo.iterations = options.embedding_iterations;
                 eo.area_weight = options.embedding_area_weight;
+                eo.conformal_weight = options.embedding_conformal_weight;
                 detail::embedding_stage(&out, eo, options.embedding_cone_sweeps, options.embedding_extract, say);
             }
             const double t_quality = clock();

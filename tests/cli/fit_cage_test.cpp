@@ -130,6 +130,26 @@ TEST(CliFitCage, BadCagesExitThree) {
     expect_rejected(two, "2 connected components, the mesh 1");
 }
 
+// `fit` takes the layout's embedding flags (issue #20): the extracted layout is the one fitted. With
+// --cage there is no layout, so the flags are a usage error that writes nothing.
+TEST(CliFitEmbedding, TheFlagsReachTheLayoutAndExcludeCage) {
+    const fs::path dir = scratch_dir("quadcage_fit_embedding_");
+    const CliRun r = quadcage_cli("fit " + shell_quoted(eight()) + " --level 1 --embedding-iterations 10 "
+                                  "--embedding-extract -o " + shell_quoted(dir / "out"),
+                                  dir);
+    ASSERT_EQ(r.code, 0) << r.log;
+    EXPECT_NE(r.log.find("layout: embedding: keeping the extracted layout"), std::string::npos) << r.log;
+    const nlohmann::json report = nlohmann::json::parse(slurp(dir / "out" / "report.json"));
+    EXPECT_EQ(report["quads"], 10);
+    const CliRun both = quadcage_cli("fit " + shell_quoted(eight()) + " --cage " + shell_quoted(eight_quadriflow()) +
+                                     " --embedding-iterations 10 -q -o " + shell_quoted(dir / "out2"),
+                                     dir);
+    EXPECT_EQ(both.code, 2) << both.log;
+    EXPECT_NE(both.log.find("--cage excludes --embedding-iterations"), std::string::npos) << both.log;
+    EXPECT_FALSE(fs::exists(dir / "out2"));
+    fs::remove_all(dir);
+}
+
 TEST(CliFitCage, NanInTheCageExitsThree) {
     const fs::path dir = scratch_dir("quadcage_fit_cage_nan_");
     PolygonMesh qf = read_polygon_mesh(eight_quadriflow().string());

@@ -9,6 +9,7 @@
 # with 3 small handles (`quadcage generate handles -g 3`).
 #   tools/bench/embedding.sh [BUILD_DIR] [ITERATIONS (default 30)] [MESH...]
 # EMBEDDING_AREA_WEIGHT=W in the environment passes --embedding-area-weight W (default 0),
+# EMBEDDING_CONFORMAL_WEIGHT=C --embedding-conformal-weight C (default 0),
 # EMBEDDING_CONE_SWEEPS=N --embedding-cone-sweeps N (default 0).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
@@ -46,7 +47,8 @@ for m in "${list[@]}"; do
   start=$(date +%s.%N)
   "$qc" layout "$m" -o "$work/plain" -q >/dev/null 2>&1 || true
   if ! "$qc" layout "$m" -o "$work/out" --embedding-iterations "$iterations" --embedding-extract \
-       --embedding-area-weight "${EMBEDDING_AREA_WEIGHT:-0}" --embedding-cone-sweeps "${EMBEDDING_CONE_SWEEPS:-0}" >"$work/log" 2>&1; then
+       --embedding-area-weight "${EMBEDDING_AREA_WEIGHT:-0}" --embedding-conformal-weight "${EMBEDDING_CONFORMAL_WEIGHT:-0}" \
+       --embedding-cone-sweeps "${EMBEDDING_CONE_SWEEPS:-0}" >"$work/log" 2>&1; then
     printf '| %s | FAILED: %s |\n' "$name" "$(tail -1 "$work/log")"
     continue
   fi

@@ -44,8 +44,13 @@ struct QuadLayoutOptions {
     /// Dirichlet), >= 0: higher evens out the squares' areas at the cost of angles at the corners,
     /// which stay where they are.
     double embedding_area_weight = 0;
-    /// Passes of the embedding's cone relocation (each cone to a neighbouring vertex while that
-    /// lowers the energy; 0: the corners stay), >= 0. Experimental.
+    /// Weight of the embedding's conformal term (|J|^2 / det J - 2 per triangle, MIPS), >= 0: higher
+    /// weighs angles against area. Its effect on the corner angles is small so far (eight, weight 5:
+    /// mean deviation 34 -> 28 deg, against 17 for the layout without the stage).
+    double embedding_conformal_weight = 0;
+    /// Passes of the embedding's cone relocation (every corner moved along the surface, down the
+    /// energy's gradient in its place, by up to half a square's side per pass, while that lowers the
+    /// optimised energy; 0: the corners stay), >= 0. Experimental.
     int embedding_cone_sweeps = 0;
     std::function<void(const std::string&)>
         progress;                  ///< Called with a short message per stage; may be empty.

@@ -53,6 +53,9 @@ struct EmbeddingOptions {
     /// Weight of an extra area term det J + 1/det J - 2 per triangle (0: symmetric Dirichlet
     /// alone), >= 0: trades angle distortion for area balance.
     double area_weight = 0;
+    /// Weight of an extra conformal term |J|^2 / det J - 2 per triangle (MIPS; 0: none), >= 0: weighs
+    /// angles against area.
+    double conformal_weight = 0;
     std::string validate() const;  ///< Empty if valid, else what is wrong.
 };
 
@@ -78,15 +81,21 @@ struct EmbeddingReport {
 /// \pre verify_quad_layout(layout) is "" (so the start is flip-free and seamless).
 EmbeddingReport optimize_embedding(const QuadLayout& layout, const EmbeddingOptions& options, SeamlessMap* map);
 
-/// Cone relocation (issue #20, stretch): moves cones one mesh edge at a time while that lowers the
-/// optimised energy. A cone moved from v to its neighbour w makes edge v-w a cut whose transition
-/// turns about the cone's lattice point (v becomes regular, w the cone); the start map is rebuilt
-/// around v and w in the cone's power chart (z - L)^(4/5), where the 450-degree cone is flat, then
-/// optimised for `trial_iterations` Newton steps; the best neighbour of each cone is kept if it
-/// lowers the energy. Up to `sweeps` passes over the cones; then a full optimisation.
-/// Returns the number of moves made. A first version: the rebuilt start moves only v and w, so most
-/// candidates flip and are skipped, and some are not seamless (rejected); it finds small local
-/// moves only (eight: 9 moves, energy -1%).
+/// Cone relocation (issue #20): moves all cones at once down the gradient of the optimised energy
+/// with respect to their places on the surface, while that lowers it. Per sweep:
+/// - Each cone's configurational force: minus the derivative of the energy when the cone vertex
+///   slides in its tangent plane with the map held (by the envelope theorem, that of the optimised
+///   energy too), by central differences.
+/// - Each cone walks the mesh edges towards the point its force points to, at a distance of
+///   alpha * (a square's side on the surface) * |force| / (largest |force|), alpha = 1/2, 1/4, ...
+///   Each step makes the edge v-w a cut whose transition turns about the lattice point (v becomes
+///   regular, w the cone), rebuilds v in the cone's power chart (z - L)^(4/5) where the 450-degree
+///   cone is flat, and untangles and relaxes the two rings around v and w (a step whose result flips
+///   or winds a vertex the wrong number of times ends the walk).
+/// - The moved map is untangled and optimised for `trial_iterations` Newton steps as a whole; it is
+///   kept if it flips nothing, turns every vertex once (cones 5/4) and has a lower energy, else alpha
+///   is halved (down to 1/32); a sweep that keeps nothing ends the relocation.
+/// Then a full optimisation. Returns the number of cone walks kept.
 int relocate_cones(const QuadLayout& layout, const EmbeddingOptions& options, int sweeps, int trial_iterations,
                    SeamlessMap* map, EmbeddingReport* report);
 
@@ -118,9 +127,10 @@ AreaPotential measure_area_potential(const QuadLayout& layout, const SeamlessMap
 std::string extract_layout(const QuadLayout& layout, const SeamlessMap& map, QuadLayout* out);
 
 /// The embedding stage of build_quad_layout(): optimize_embedding(), relocate_cones() for
-/// `cone_sweeps` passes (0: none), then measure_area_potential(); one progress line with the figures. With `extract`,
-/// replaces *layout by extract_layout()'s result if that verifies and has a smaller patch area
-/// max/min; the progress line says which and why.
+/// `cone_sweeps` passes (0: none), then measure_area_potential(); one progress line with the
+/// figures. With `extract`, replaces *layout by extract_layout()'s result if that verifies and has a
+/// smaller patch area max/min; progress lines give both layouts' balance figures and say which was
+/// kept and why.
 void embedding_stage(QuadLayout* layout, const EmbeddingOptions& options, int cone_sweeps, bool extract,
                      const std::function<void(const std::string&)>& say);
 
