@@ -322,7 +322,22 @@ std::optional<BodyCut> cut_tshirt(Builder w, std::vector<int> ids, int last, con
             d_tree = join(D, on_c, d_c);
         }
         if (!d_tree) {
-            if (w.split_chords(joins) == 0) return std::nullopt;
+            // C's tree closes a pocket round a hole of D where it runs beside itself: split the
+            // edges that join two of its vertices (the pocket's mouth) and try again.
+            std::vector<char> on_core(s.num_vertices(), 0);
+            for (int v : core) on_core[v] = 1;
+            std::unordered_set<std::uint64_t> along = w.obstacle_edges();
+            for (const Cycle& p : joins)
+                for (size_t i = 0; i + 1 < p.size(); ++i) along.insert(edge_key(p[i], p[i + 1]));
+            std::vector<std::pair<int, int>> mouths;
+            for (int h = 0; h < s.num_half_edges(); ++h) {
+                const int a = s.from(h), c = s.to(h);
+                if (a < c && on_core[a] && on_core[c] && !block[a] && !along.count(edge_key(a, c))) mouths.push_back({a, c});
+            }
+            if (!mouths.empty())
+                w.split_curve_edges(mouths);
+            else if (w.split_chords(joins) == 0)
+                return std::nullopt;
             continue;
         }
         const std::vector<int>& d_vertices = *d_tree;
