@@ -68,7 +68,8 @@ Cycle level_loop(const Builder& b, const std::vector<double>& u, double level, d
     const std::vector<int> path = b.sector_path(x, sec[0], x, sec[1], wall, cost, nullptr);
     if (path.empty()) {
         if (room) {
-            std::unordered_set<std::uint64_t> uncrossed = walls ? *walls : std::unordered_set<std::uint64_t>{};
+            std::unordered_set<std::uint64_t> uncrossed;
+            if (walls) uncrossed = *walls;
             for (size_t i = 0; i + 1 < cut.size(); ++i) uncrossed.insert(edge_key(cut[i], cut[i + 1]));
             *room = b.route_chords(x, sec[0], x, sec[1], wall, cost, &uncrossed);
         }
@@ -120,7 +121,8 @@ int split_chords_beside(Builder& b, int m, const std::vector<int>& loops) {
     std::vector<std::pair<int, int>> chords;
     for (int v : b.curves_[m])
         for (int x : s.ring(v))
-            if (block[x] && !curve_edges.count(edge_key(v, x)) && (!on_m[x] || v < x)) chords.push_back({std::min(v, x), std::max(v, x)});
+            if (block[x] && !curve_edges.count(edge_key(v, x)) && (!on_m[x] || v < x))
+                chords.push_back({std::min(v, x), std::max(v, x)});
     std::sort(chords.begin(), chords.end());
     chords.erase(std::unique(chords.begin(), chords.end()), chords.end());
     b.split_curve_edges(chords);
@@ -149,7 +151,8 @@ int offset_loop(Builder& b, int m, int side) {
 }
 
 // Whether S-cycles made[0] and made[1] bound one piece (an annulus) that holds curve c: cut by s_ids.
-bool bounds_annulus(const Builder& b, const Cycle& c, const std::vector<int>& s_ids, const std::array<int, 2>& made) {
+bool bounds_annulus(const Builder& b, const Cycle& c, const std::vector<int>& s_ids,
+                    const std::array<int, 2>& made) {
     const Cut cut = cut_by(b, s_ids);
     const auto& around = cut.holes.at(cut.label[triangle_beside(b.s_, c, 0)]);
     return around.size() == 2 && around[0].curve != around[1].curve &&
@@ -197,7 +200,7 @@ bool tube_annulus(Builder& b, int m, const std::vector<int>& loops, double width
         std::vector<char> wall = block;
         if (loose) {
             if (beside[cut[0]] >= 0) cut.insert(cut.begin(), beside[cut[0]]);
-            for (double& d : u) d = std::max(d, 0.25 * width + 1e-9 * width);  // all of [0, width] in the band
+            for (double& d : u) d = std::max(d, 0.25 * width + 1e-9 * width);  // [0, width] in the band
             // Only m's side of the Voronoi diagram of m's two sides and the other curves: a loop
             // there is parallel to m, where a loop in a band round m can take in a close handle.
             PathSearch o;
@@ -215,7 +218,7 @@ bool tube_annulus(Builder& b, int m, const std::vector<int>& loops, double width
             o.max_distance = 4 * width;
             const PathResult others = detail::dijkstra(s, o);
             for (int v = 0; v < s.num_vertices(); ++v)
-                if (!(r.distance[v] <= others.distance[v])) wall[v] = 1;  // ties: midpoints of chords beside m
+                if (!(r.distance[v] <= others.distance[v])) wall[v] = 1;  // ties: chords' midpoints
         }
         const Cycle loop = level_loop(b, u, width, width, 0.75 * width, cut, wall);
         if (loop.empty()) return false;
@@ -332,7 +335,8 @@ std::optional<BodyCut> cut_tshirt(Builder w, std::vector<int> ids, int last, con
             std::vector<std::pair<int, int>> mouths;
             for (int h = 0; h < s.num_half_edges(); ++h) {
                 const int a = s.from(h), c = s.to(h);
-                if (a < c && on_core[a] && on_core[c] && !block[a] && !along.count(edge_key(a, c))) mouths.push_back({a, c});
+                if (a < c && on_core[a] && on_core[c] && !block[a] && !along.count(edge_key(a, c)))
+                    mouths.push_back({a, c});
             }
             if (!mouths.empty())
                 w.split_curve_edges(mouths);
@@ -410,8 +414,9 @@ std::optional<BodyCut> cut_tshirt(Builder w, std::vector<int> ids, int last, con
                     ring = p;
             }
             const auto& beside = trial.curves_[out.outer];
-            const bool outer_on_ring = ring >= 0 && (after.label[triangle_beside(trial.s_, beside, 0)] == ring ||
-                                                     after.label[triangle_beside(trial.s_, beside, 1)] == ring);
+            const Surface& ts = trial.s_;
+            const bool outer_on_ring = ring >= 0 && (after.label[triangle_beside(ts, beside, 0)] == ring ||
+                                                     after.label[triangle_beside(ts, beside, 1)] == ring);
             if (shirt >= 0 && ring >= 0 && outer_on_ring) return out;
         }
         // No loop fits between the trees: split the chords the first failed loop must cross (a
@@ -594,7 +599,8 @@ std::optional<std::vector<int>> tube_s_cycles(Builder& b, const std::vector<int>
                 }
                 break;
             }
-            if (tube_annulus(trial, loops[i], loops, width0 / (1 << (attempt % 3)), &trial_ids, &ends[i], true)) {
+            const double narrower = width0 / (1 << attempt);
+            if (tube_annulus(trial, loops[i], loops, narrower, &trial_ids, &ends[i], true)) {
                 w = std::move(trial);
                 ids = std::move(trial_ids);
                 ok = true;

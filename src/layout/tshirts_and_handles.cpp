@@ -168,7 +168,8 @@ std::vector<std::pair<Hole, std::array<int, 2>>> route_tshirt(Builder& b, const 
     bool by_added = false;  // the choice is made by vertices added, then length
     auto better = [&](int added, double length) {
         if (!best) return true;
-        return by_added ? added < best->added || (added == best->added && length < best->length) : length < best->length;
+        if (!by_added) return length < best->length;
+        return added < best->added || (added == best->added && length < best->length);
     };
     std::vector<Rings> other;  // the first order's other routing, for the choice by vertices added
     for (int cyc : cyclic) {
