@@ -166,10 +166,21 @@ int Builder::split_chords_around(const std::vector<char>& reached) {
 
 int Builder::open_route(int x, const std::vector<int>& from_sector, int y, const std::vector<int>& to_sector,
                         const std::vector<char>& block, const std::function<double(int)>& cost) {
+    const std::vector<std::pair<int, int>> edges = route_chords(x, from_sector, y, to_sector, block, cost);
+    split_curve_edges(edges);
+    return static_cast<int>(edges.size());
+}
+
+std::vector<std::pair<int, int>> Builder::route_chords(int x, const std::vector<int>& from_sector, int y,
+                                                       const std::vector<int>& to_sector,
+                                                       const std::vector<char>& block,
+                                                       const std::function<double(int)>& cost,
+                                                       const std::unordered_set<std::uint64_t>* walls) const {
     // A step through a chord's midpoint costs this many times its length: far above any walk
     // that needs no split, so the route crosses as few chords as it can.
     constexpr double kCrossing = 64.0;
-    const std::unordered_set<std::uint64_t> curve_edges = obstacle_edges();
+    std::unordered_set<std::uint64_t> curve_edges = obstacle_edges();
+    if (walls) curve_edges.insert(walls->begin(), walls->end());
     const int n = s_.num_vertices();
     // Nodes: the vertices [0, n), then one per chord met (its midpoint, once split). Moves that
     // splitting exactly the chords of a route makes edges of the surface: a free vertex to a chord
@@ -217,7 +228,7 @@ int Builder::open_route(int x, const std::vector<int>& from_sector, int y, const
     };
     const std::vector<std::pair<int, double>> sources = sector_nodes(x, from_sector, true);
     const std::vector<std::pair<int, double>> targets = sector_nodes(y, to_sector, false);
-    if (sources.empty() || targets.empty()) return 0;
+    if (sources.empty() || targets.empty()) return {};
     std::unordered_map<int, double> arrival, distance;
     for (const auto& [v, c] : targets)
         if (const auto it = arrival.find(v); it == arrival.end() || c < it->second) arrival[v] = c;
@@ -268,10 +279,8 @@ int Builder::open_route(int x, const std::vector<int>& from_sector, int y, const
             const int h = chord_half_edge[v - n];
             edges.push_back({std::min(s_.from(h), s_.to(h)), std::max(s_.from(h), s_.to(h))});
         }
-    if (edges.empty()) return 0;  // no route, or one that needs no split (sector_path() finds those)
-    std::sort(edges.begin(), edges.end());
-    split_curve_edges(edges);
-    return static_cast<int>(edges.size());
+    std::sort(edges.begin(), edges.end());  // empty: no route, or one that needs no split
+    return edges;
 }
 
 void Builder::split_curve_edges(const std::vector<std::pair<int, int>>& edges) {

@@ -8,6 +8,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <unordered_set>
 #include <utility>
 #include <vector>
 
@@ -34,12 +35,21 @@ constexpr double kShun = 10.0;
 constexpr size_t kTshirtChoices = 4;
 constexpr int kMaxPlannedHoles = 62;
 
+// How many times cut_tshirt() makes room for its loops before it gives up, and how many times it
+// makes room for the outer loop beside one inner loop.
+constexpr int kTshirtRoomAttempts = 8;
+constexpr int kOuterRoomAttempts = 4;
+
 // A closed curve near the level set {u = level}: it leaves x, the vertex of `cut` whose u is
 // nearest the level, on one side of the cut and comes back on the other, so it crosses the cut
 // once; it avoids `wall`, the rest of the cut and where |u - level| > band. Edges cost their length times
-// 1 + kLevelStick * |u - level| / scale; x is cut[first] or later. Empty if there is no such curve.
+// 1 + kLevelStick * |u - level| / scale; x is cut[first] or later. Empty if there is no such curve;
+// then, with `room`, the chords whose split would let one through (Builder::route_chords; the cut
+// and the edges in `walls` are not crossed).
 Cycle level_loop(const Builder& b, const std::vector<double>& u, double level, double scale, double band,
-                 const std::vector<int>& cut, std::vector<char> wall, size_t first = 1) {
+                 const std::vector<int>& cut, std::vector<char> wall, size_t first = 1,
+                 std::vector<std::pair<int, int>>* room = nullptr,
+                 const std::unordered_set<std::uint64_t>* walls = nullptr) {
     first = std::max<size_t>(first, 1);
     if (first + 1 >= cut.size()) return {};
     size_t at = first;
@@ -56,7 +66,15 @@ Cycle level_loop(const Builder& b, const std::vector<double>& u, double level, d
         return s.length(h) * (1 + kLevelStick * 0.5 * du / scale);
     };
     const std::vector<int> path = b.sector_path(x, sec[0], x, sec[1], wall, cost, nullptr);
-    if (path.empty()) return {};
+    if (path.empty()) {
+        if (room) {
+            std::unordered_set<std::uint64_t> uncrossed;
+            if (walls) uncrossed = *walls;
+            for (size_t i = 0; i + 1 < cut.size(); ++i) uncrossed.insert(edge_key(cut[i], cut[i + 1]));
+            *room = b.route_chords(x, sec[0], x, sec[1], wall, cost, &uncrossed);
+        }
+        return {};
+    }
     Cycle loop{x};
     loop.insert(loop.end(), path.begin(), path.end());
     return loop;
@@ -85,11 +103,69 @@ double area_level(const Surface& s, const std::vector<double>& u, const std::vec
     return by_level.empty() ? 0.5 : by_level.back().first;
 }
 
+// Splits the edges that join a vertex of handle loop m to another vertex of m or of a curve that
+// tube_annulus() avoids (S-cycles, handle loops) without being an edge of those curves: where m
+// touches them, an S-cycle beside m has no vertex to pass through. Returns the number split.
+int split_chords_beside(Builder& b, int m, const std::vector<int>& loops) {
+    const Surface& s = b.s_;
+    std::vector<char> block = b.blocked(), on_m(s.num_vertices(), 0);
+    std::unordered_set<std::uint64_t> curve_edges = b.obstacle_edges();
+    for (int l : loops) {
+        const Cycle& c = b.curves_[l];
+        for (size_t i = 0; i < c.size(); ++i) {
+            block[c[i]] = 1;
+            curve_edges.insert(edge_key(c[i], c[(i + 1) % c.size()]));
+        }
+    }
+    for (int v : b.curves_[m]) on_m[v] = 1;
+    std::vector<std::pair<int, int>> chords;
+    for (int v : b.curves_[m])
+        for (int x : s.ring(v))
+            if (block[x] && !curve_edges.count(edge_key(v, x)) && (!on_m[x] || v < x))
+                chords.push_back({std::min(v, x), std::max(v, x)});
+    std::sort(chords.begin(), chords.end());
+    chords.erase(std::unique(chords.begin(), chords.end()), chords.end());
+    b.split_curve_edges(chords);
+    return static_cast<int>(chords.size());
+}
+
+// An S-cycle beside handle loop m on `side`, half an edge from it: the edges from m to its
+// neighbours on that side are split and their midpoints, in order along m, joined (consecutive ones
+// share a triangle). Call after split_chords_beside(): then no such edge ends on m or on another
+// curve, and the loop touches no curve. Adds it to b; returns its id, or -1.
+int offset_loop(Builder& b, int m, int side) {
+    const Cycle c = b.curves_[m];
+    std::vector<std::pair<int, int>> spokes;
+    for (int v : c) {
+        const auto [p, n] = neighbours_on(c, v);
+        std::vector<int> sec = sectors(b.s_, v, p, n)[side];
+        if (side == 1) std::reverse(sec.begin(), sec.end());  // sector 1 runs from next back to prev
+        for (int w : sec) spokes.push_back({v, w});
+    }
+    const int n0 = b.s_.num_vertices();
+    b.split_curve_edges(spokes);
+    if (spokes.empty() || b.s_.num_vertices() != n0 + static_cast<int>(spokes.size())) return -1;
+    Cycle loop;
+    for (size_t i = 0; i < spokes.size(); ++i) loop.push_back(n0 + static_cast<int>(i));
+    return b.add_curve(loop);
+}
+
+// Whether S-cycles made[0] and made[1] bound one piece (an annulus) that holds curve c: cut by s_ids.
+bool bounds_annulus(const Builder& b, const Cycle& c, const std::vector<int>& s_ids,
+                    const std::array<int, 2>& made) {
+    const Cut cut = cut_by(b, s_ids);
+    const auto& around = cut.holes.at(cut.label[triangle_beside(b.s_, c, 0)]);
+    return around.size() == 2 && around[0].curve != around[1].curve &&
+           std::all_of(around.begin(), around.end(),
+                       [&](const Hole& h) { return h.curve == made[0] || h.curve == made[1]; });
+}
+
 // The handle annulus round handle loop m: two S-cycles parallel to m, one on each side at distance
 // about `width` (the distance from m on that side). Adds them to b and to s_ids; returns whether
-// they bound an annulus round m.
+// they bound an annulus round m. `loose` (a retry where that failed): an S-cycle may come as close
+// to m as it needs (m's own vertices excepted), and may leave from a neighbour of m.
 bool tube_annulus(Builder& b, int m, const std::vector<int>& loops, double width, std::vector<int>* s_ids,
-                  std::array<int, 2>* made) {
+                  std::array<int, 2>* made, bool loose = false) {
     const Surface& s = b.s_;
     const Cycle c = b.curves_[m];  // a copy: add_curve() below may move the curves
     for (int side = 0; side < 2; ++side) {
@@ -98,31 +174,59 @@ bool tube_annulus(Builder& b, int m, const std::vector<int>& loops, double width
             for (int v : b.curves_[l]) block[v] = 1;
         PathSearch q;
         q.blocked = &block;
+        std::vector<int> beside(s.num_vertices(), -1);  // per source, the vertex of m it is next to
         for (int v : c) {
             const auto [p, n] = neighbours_on(c, v);
             const auto sec = sectors(s, v, p, n);  // named: a temporary's [side] would dangle
             for (int w : sec[side])
-                if (!block[w]) q.sources.push_back({w, norm(s.point(w) - s.point(v))});
+                if (!block[w]) {
+                    q.sources.push_back({w, norm(s.point(w) - s.point(v))});
+                    if (beside[w] < 0) beside[w] = v;
+                }
         }
         q.max_distance = 4 * width;
         const PathResult r = detail::dijkstra(s, q);
+        // The cut runs from m to 2 widths (loose: as far as the search went, so that a loop
+        // round the cut's end alone leaves the band even on a coarse mesh).
+        const double reach = loose ? 4 * width : 2 * width;
         int z = -1;
         for (int v = 0; v < s.num_vertices(); ++v)
             if (r.distance[v] < kInf &&
-                (z < 0 || std::abs(r.distance[v] - 2 * width) < std::abs(r.distance[z] - 2 * width)))
+                (z < 0 || std::abs(r.distance[v] - reach) < std::abs(r.distance[z] - reach)))
                 z = v;
         if (z < 0) return false;
-        const Cycle loop = level_loop(b, r.distance, width, width, 0.75 * width, r.path_to(s, z), block);
+        std::vector<int> cut = r.path_to(s, z);
+        std::vector<double> u = r.distance;
+        std::vector<char> wall = block;
+        if (loose) {
+            if (beside[cut[0]] >= 0) cut.insert(cut.begin(), beside[cut[0]]);
+            for (double& d : u) d = std::max(d, 0.25 * width + 1e-9 * width);  // [0, width] in the band
+            // Only m's side of the Voronoi diagram of m's two sides and the other curves: a loop
+            // there is parallel to m, where a loop in a band round m can take in a close handle.
+            PathSearch o;
+            std::vector<char> on_m(s.num_vertices(), 0);
+            for (int v : c) on_m[v] = 1;
+            o.blocked = &on_m;
+            for (int v = 0; v < s.num_vertices(); ++v)
+                if (block[v] && !on_m[v]) o.sources.push_back({v, 0.0});
+            for (int v : c) {
+                const auto [p, n] = neighbours_on(c, v);
+                const auto sec = sectors(s, v, p, n);
+                for (int x : sec[1 - side])
+                    if (!block[x]) o.sources.push_back({x, norm(s.point(x) - s.point(v))});
+            }
+            o.max_distance = 4 * width;
+            const PathResult others = detail::dijkstra(s, o);
+            for (int v = 0; v < s.num_vertices(); ++v)
+                if (!(r.distance[v] <= others.distance[v])) wall[v] = 1;  // ties: chords' midpoints
+        }
+        const Cycle loop = level_loop(b, u, width, width, 0.75 * width, cut, wall);
         if (loop.empty()) return false;
         (*made)[side] = b.add_curve(loop);
         s_ids->push_back((*made)[side]);
     }
     // The two must bound one piece (the annulus) that holds m and no other curve.
-    const Cut cut = cut_by(b, *s_ids);
-    const auto& around = cut.holes.at(cut.label[triangle_beside(s, c, 0)]);
-    return around.size() == 2 && around[0].curve != around[1].curve &&
-           std::all_of(around.begin(), around.end(),
-                       [&](const Hole& h) { return h.curve == (*made)[0] || h.curve == (*made)[1]; });
+    return bounds_annulus(b, c, *s_ids, *made);
 }
 
 // The body left after `ids`: the piece beside `last` (the outer S-cycle of the last body annulus)
@@ -149,12 +253,13 @@ struct BodyCut {
 // shortest paths, and D's likewise, each keeping away from the other: the body less the two trees
 // is an annulus, so a loop in it that crosses a path from one tree to the other once separates C
 // from D, whatever the level sets of d_C / (d_C + d_D) do round holes of D near C. When no loop
-// fits, short cuts and chords between the trees are split for room (at most 4 times).
+// fits, the chords its route must cross, else short cuts, else the chords between the trees are split
+// for room (at most kTshirtRoomAttempts times).
 std::optional<BodyCut> cut_tshirt(Builder w, std::vector<int> ids, int last, const std::vector<int>& C,
                                   const std::vector<int>& D, int g, double units, double unit) {
     const Surface& s = w.s_;
     const double reach = std::sqrt(unit);  // how far a tree keeps off the other
-    for (int room = 0; room <= 4; ++room) {
+    for (int room = 0; room <= kTshirtRoomAttempts; ++room) {
         const Cut cut = cut_by(w, ids);
         const int body = body_piece(cut, last, g);
         if (body < 0) return std::nullopt;
@@ -210,9 +315,33 @@ std::optional<BodyCut> cut_tshirt(Builder w, std::vector<int> ids, int last, con
             for (int x : s.ring(v)) near_c[x] = 1;
         for (int c : D)
             for (int v : w.curves_[c]) near_c[v] = 0;
-        const auto d_tree = join(D, near_c, d_c);
+        const size_t c_joins = joins.size();
+        auto d_tree = join(D, near_c, d_c);
+        if (!d_tree) {  // C's tree and its ring cut D's holes apart: only the tree itself is a wall
+            joins.resize(c_joins);
+            std::vector<char> on_c = off_c;
+            for (int c : D)
+                for (int v : w.curves_[c]) on_c[v] = 0;
+            d_tree = join(D, on_c, d_c);
+        }
         if (!d_tree) {
-            if (w.split_chords(joins) == 0) return std::nullopt;
+            // C's tree closes a pocket round a hole of D where it runs beside itself: split the
+            // edges that join two of its vertices (the pocket's mouth) and try again.
+            std::vector<char> on_core(s.num_vertices(), 0);
+            for (int v : core) on_core[v] = 1;
+            std::unordered_set<std::uint64_t> along = w.obstacle_edges();
+            for (const Cycle& p : joins)
+                for (size_t i = 0; i + 1 < p.size(); ++i) along.insert(edge_key(p[i], p[i + 1]));
+            std::vector<std::pair<int, int>> mouths;
+            for (int h = 0; h < s.num_half_edges(); ++h) {
+                const int a = s.from(h), c = s.to(h);
+                if (a < c && on_core[a] && on_core[c] && !block[a] && !along.count(edge_key(a, c)))
+                    mouths.push_back({a, c});
+            }
+            if (!mouths.empty())
+                w.split_curve_edges(mouths);
+            else if (w.split_chords(joins) == 0)
+                return std::nullopt;
             continue;
         }
         const std::vector<int>& d_vertices = *d_tree;
@@ -228,6 +357,12 @@ std::optional<BodyCut> cut_tshirt(Builder w, std::vector<int> ids, int last, con
         const PathResult bridge = detail::dijkstra(s, q);
         if (bridge.target < 0) return std::nullopt;
         const std::vector<int> cut_path = bridge.path_to(s, bridge.target);
+        // The trees' paths are walls the loops may not cross: room is made beside them, not
+        // through them.
+        std::unordered_set<std::uint64_t> tree_edges;
+        for (const Cycle& p : joins)
+            for (size_t i = 0; i + 1 < p.size(); ++i) tree_edges.insert(edge_key(p[i], p[i + 1]));
+        std::vector<std::pair<int, int>> room_edges;  // the chords the first failed loop must cross
         // Lower levels if the loops take in holes of D that lie in C's region (islands).
         for (const double f : {1.0, 0.6, 0.35, 0.2}) {
             BodyCut out{w, ids};
@@ -235,15 +370,32 @@ std::optional<BodyCut> cut_tshirt(Builder w, std::vector<int> ids, int last, con
             std::vector<char> wall = trial.blocked();  // obstacle curves, C's tree and D's
             for (size_t v = 0; v < wall.size(); ++v) wall[v] = wall[v] || off_c[v];
             for (int v : d_vertices) wall[v] = 1;
-            const Cycle inner = level_loop(trial, u, f * lo0, 1.0, kInf, cut_path, wall);
+            const Cycle inner = level_loop(trial, u, f * lo0, 1.0, kInf, cut_path, wall, 1,
+                                           room_edges.empty() ? &room_edges : nullptr, &tree_edges);
             if (inner.empty()) continue;
             for (int v : inner) wall[v] = 1;
             size_t crossed = 0;  // where inner crosses the cut: outer crosses it farther on
             while (crossed < cut_path.size() && std::find(inner.begin(), inner.end(), cut_path[crossed]) == inner.end())
                 ++crossed;
-            const Cycle outer = level_loop(trial, u, f * hi0, 1.0, kInf, cut_path, wall, crossed + 1);
-            if (outer.empty()) continue;
+            // Outer passes between inner and D's tree, where inner may have left no vertex free:
+            // the chords its route must cross are split on the trial, inner kept (made anew, it
+            // would take the new room), up to kOuterRoomAttempts times.
             const int a = trial.add_curve(inner);
+            std::vector<double> uf = u;
+            Cycle outer;
+            for (int open = 0;; ++open) {
+                std::vector<std::pair<int, int>> edges;
+                outer = level_loop(trial, uf, f * hi0, 1.0, kInf, cut_path, wall, crossed + 1,
+                                   open < kOuterRoomAttempts ? &edges : nullptr, &tree_edges);
+                if (!outer.empty() || edges.empty()) break;
+                const size_t n0 = uf.size();
+                trial.split_curve_edges(edges);  // new vertices n0, n0 + 1, ... in the order of `edges`
+                uf.resize(trial.s_.num_vertices());
+                for (size_t i = 0; i < edges.size(); ++i)
+                    uf[n0 + i] = 0.5 * (uf[edges[i].first] + uf[edges[i].second]);
+                wall.resize(uf.size(), 0);
+            }
+            if (outer.empty()) continue;
             out.outer = trial.add_curve(outer);
             out.ids.push_back(a);
             out.ids.push_back(out.outer);
@@ -252,7 +404,7 @@ std::optional<BodyCut> cut_tshirt(Builder w, std::vector<int> ids, int last, con
             const Cut after = cut_by(trial, out.ids);
             int shirt = -1, ring = -1;
             for (int side = 0; side < 2; ++side) {
-                const int p = after.label[triangle_beside(s, trial.curves_[a], side)];
+                const int p = after.label[triangle_beside(trial.s_, trial.curves_[a], side)];
                 const auto& hs = after.holes.at(p);
                 if (hs.size() == 4 && std::all_of(C.begin(), C.end(), [&](int c) {
                         return std::any_of(hs.begin(), hs.end(), [c](const Hole& h) { return h.curve == c; });
@@ -262,13 +414,17 @@ std::optional<BodyCut> cut_tshirt(Builder w, std::vector<int> ids, int last, con
                     ring = p;
             }
             const auto& beside = trial.curves_[out.outer];
-            const bool outer_on_ring = ring >= 0 && (after.label[triangle_beside(s, beside, 0)] == ring ||
-                                                     after.label[triangle_beside(s, beside, 1)] == ring);
+            const Surface& ts = trial.s_;
+            const bool outer_on_ring = ring >= 0 && (after.label[triangle_beside(ts, beside, 0)] == ring ||
+                                                     after.label[triangle_beside(ts, beside, 1)] == ring);
             if (shirt >= 0 && ring >= 0 && outer_on_ring) return out;
         }
-        // No loop fits between the trees: split the edges of a short cut, else the chords
-        // between the trees, and try again.
-        if (cut_path.size() < 6) {
+        // No loop fits between the trees: split the chords the first failed loop must cross (a
+        // few, where the trees or the inner loop pinch the body), else the edges of a short cut,
+        // else every chord between the trees, and try again.
+        if (!room_edges.empty()) {
+            w.split_curve_edges(room_edges);
+        } else if (cut_path.size() < 6) {
             std::vector<std::pair<int, int>> edges;
             for (size_t i = 0; i + 1 < cut_path.size(); ++i) edges.push_back({cut_path[i], cut_path[i + 1]});
             w.split_curve_edges(edges);
@@ -411,12 +567,40 @@ std::optional<std::vector<int>> tube_s_cycles(Builder& b, const std::vector<int>
     for (int i = 0; i < g; ++i) {
         say("handle annulus " + std::to_string(i + 1) + " of " + std::to_string(g) + surface_size(w));
         const double len = cycle_length(w.s_.mesh(), w.curves_[loops[i]]);
-        double width = std::min(unit / len, 0.25 * len);
+        const double width0 = std::min(unit / len, 0.25 * len);
+        double width = width0;
         bool ok = false;
         for (int attempt = 0; attempt < 3 && !ok; ++attempt, width *= 0.5) {
             Builder trial = w;
             std::vector<int> trial_ids = ids;
             if (tube_annulus(trial, loops[i], loops, width, &trial_ids, &ends[i])) {
+                w = std::move(trial);
+                ids = std::move(trial_ids);
+                ok = true;
+            }
+        }
+        // Where the handle is crowded or coarse: room beside m, then the S-cycles as close to m
+        // as they must be, in m's cell of the Voronoi diagram of the curves; last, half an edge
+        // from m (a thin annulus that relaxation widens).
+        for (int attempt = 0; attempt < 4 && !ok; ++attempt) {
+            Builder trial = w;
+            std::vector<int> trial_ids = ids;
+            split_chords_beside(trial, loops[i], loops);
+            if (attempt == 3) {
+                ends[i] = {offset_loop(trial, loops[i], 0), -1};
+                if (ends[i][0] >= 0) ends[i][1] = offset_loop(trial, loops[i], 1);
+                if (ends[i][1] < 0) break;
+                trial_ids.push_back(ends[i][0]);
+                trial_ids.push_back(ends[i][1]);
+                if (bounds_annulus(trial, trial.curves_[loops[i]], trial_ids, ends[i])) {
+                    w = std::move(trial);
+                    ids = std::move(trial_ids);
+                    ok = true;
+                }
+                break;
+            }
+            const double narrower = width0 / (1 << attempt);
+            if (tube_annulus(trial, loops[i], loops, narrower, &trial_ids, &ends[i], true)) {
                 w = std::move(trial);
                 ids = std::move(trial_ids);
                 ok = true;

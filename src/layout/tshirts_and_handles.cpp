@@ -21,7 +21,7 @@ namespace quadcage::layout::detail {
 
 std::optional<std::vector<int>> route_ring(Builder& b, const std::vector<int>& s_ids,
                                            const std::array<Hole, 4>& holes, const std::array<int, 4>& x,
-                                           bool face_right, double* length) {
+                                           bool face_right, double* length, int max_vertices) {
     std::vector<int> arcs;
     std::vector<int> label;
     std::vector<char> reached;
@@ -32,6 +32,7 @@ std::optional<std::vector<int>> route_ring(Builder& b, const std::vector<int>& s
         // several-fold); the walls round the search only if no route crosses chords alone.
         if (attempt > kRoomAttempts) return std::nullopt;
         if (attempt > 0 && !opened && b.open_room(reached, attempt) == 0) return std::nullopt;
+        if (b.s_.num_vertices() > max_vertices) return std::nullopt;  // worse than a ring already found
         label_pieces(b, s_ids, &label);
         const int piece = label[triangle_beside(b.s_, b.curves_[holes[0].curve], holes[0].side)];
         const std::vector<char> block = b.blocked();
@@ -146,38 +147,63 @@ std::vector<std::pair<Hole, std::array<int, 2>>> route_tshirt(Builder& b, const 
             plan.estimate += 0.5 * low + reach[k][kn][static_cast<size_t>(index_in(c, plan.top[j]))];
         }
     }
-    // Route the cyclic orders from the most promising estimate on, both directions each; stop at
-    // the first order that gives a pair of rings (each routing is a handful of searches).
+    // Route the cyclic orders from the most promising estimate on, both directions each (each
+    // routing is a handful of searches).
     std::array<int, 3> cyclic{0, 1, 2};
     std::stable_sort(cyclic.begin(), cyclic.end(),
                      [&](int x, int y) { return plans[2 * x].estimate < plans[2 * y].estimate; });
-    double best = kInf;
-    std::optional<Builder> best_builder;
-    std::vector<std::pair<Hole, std::array<int, 2>>> best_corners;
-    std::vector<int> best_arcs;
+    // The shorter direction of the first cyclic order that routes, as long as its rings add at
+    // most kRingSplitsAccepted vertices; beyond that, every routing, fewest vertices added first,
+    // then shortest: a ring that must squeeze past the curves round it splits a chord per edge of
+    // each corridor it takes, and the next arc hugs the split.
+    struct Rings {
+        Builder b;
+        double length = kInf;
+        int added = 0;
+        std::vector<std::pair<Hole, std::array<int, 2>>> corners;
+        std::vector<int> arcs;
+    };
+    const int n0 = b.s_.num_vertices();
+    std::optional<Rings> best;
+    bool by_added = false;  // the choice is made by vertices added, then length
+    auto better = [&](int added, double length) {
+        if (!best) return true;
+        if (!by_added) return length < best->length;
+        return added < best->added || (added == best->added && length < best->length);
+    };
+    std::vector<Rings> other;  // the first order's other routing, for the choice by vertices added
     for (int cyc : cyclic) {
         for (int o = 2 * cyc; o < 2 * cyc + 2; ++o) {
             const Plan& plan = plans[o];
             Builder trial = b;
             double length = 0;
-            const auto low_ring = route_ring(trial, s_ids, plan.holes, plan.bottom, true, &length);
-            if (!low_ring || length >= best) continue;
-            const auto high_ring = route_ring(trial, s_ids, plan.holes, plan.top, false, &length);
-            if (!high_ring || length >= best) continue;
-            best = length;
-            best_corners.clear();
-            for (int j = 0; j < 4; ++j)
-                best_corners.push_back({plan.holes[j], {plan.bottom[j], plan.top[j]}});
-            best_arcs = *low_ring;
-            best_arcs.insert(best_arcs.end(), high_ring->begin(), high_ring->end());
-            best_builder.emplace(std::move(trial));
+            const int cap = by_added ? n0 + best->added : std::numeric_limits<int>::max();
+            const auto low_ring = route_ring(trial, s_ids, plan.holes, plan.bottom, true, &length, cap);
+            if (!low_ring) continue;
+            const auto high_ring = route_ring(trial, s_ids, plan.holes, plan.top, false, &length, cap);
+            if (!high_ring) continue;
+            Rings r{std::move(trial), length, 0, {}, *low_ring};
+            r.added = r.b.s_.num_vertices() - n0;
+            for (int j = 0; j < 4; ++j) r.corners.push_back({plan.holes[j], {plan.bottom[j], plan.top[j]}});
+            r.arcs.insert(r.arcs.end(), high_ring->begin(), high_ring->end());
+            if (better(r.added, r.length)) {
+                if (best && !by_added) other.push_back(std::move(*best));
+                best = std::move(r);
+            } else if (!by_added) {
+                other.push_back(std::move(r));
+            }
         }
-        if (best_builder) break;
+        if (!best || by_added) continue;
+        if (best->added <= kRingSplitsAccepted) break;
+        by_added = true;
+        for (Rings& r : other)
+            if (better(r.added, r.length)) best = std::move(r);
+        other.clear();
     }
-    QC_CHECK(best_builder.has_value(), "no pair of rings could be routed in a T-shirt");
-    b = std::move(*best_builder);
-    arcs->insert(arcs->end(), best_arcs.begin(), best_arcs.end());
-    return best_corners;
+    QC_CHECK(best.has_value(), "no pair of rings could be routed in a T-shirt");
+    b = std::move(best->b);
+    arcs->insert(arcs->end(), best->arcs.begin(), best->arcs.end());
+    return best->corners;
 }
 
 // A handle (annulus between holes A and B, 2 corners each) becomes 2 quads: two arcs across it.

@@ -342,6 +342,31 @@ TEST(QuadLayoutHandleLoopSCycles, PlatesUseThemAndVerify) {
     }
 }
 
+// Plates of genus 9 and more: the handle annuli or the body annuli of the handle-loop S-cycles
+// found no room between close holes, and Algorithm 1's S-cycles took over; they wind round the
+// plate side by side, each T-shirt ring then squeezed along corridors between them and the mesh
+// was refined many times over (plate -g 10: 309481 vertices added, bound 14537). The handle-loop
+// S-cycles must now be placed (room made where they pinch) and the layout verify.
+class QuadLayoutHighGenusHandleLoops : public ::testing::TestWithParam<int> {};
+
+TEST_P(QuadLayoutHighGenusHandleLoops, PlateKeepsTheHandleLoopSCycles) {
+    const int g = GetParam();
+    const Mesh input = plate(g);
+    layout::QuadLayoutOptions o;
+    std::vector<std::string> said;
+    o.progress = [&said](const std::string& m) { said.push_back(m); };
+    const QuadLayout L = build_quad_layout(input, o);
+    expect_valid_layout(L, input, g);
+    const auto says = [&said](const std::string& part) {
+        return std::any_of(said.begin(), said.end(),
+                           [&part](const std::string& m) { return m.find(part) != std::string::npos; });
+    };
+    EXPECT_TRUE(says("body annulus " + std::to_string(g - 2) + " of " + std::to_string(g - 2)));
+    EXPECT_FALSE(says("Algorithm 1's instead"));
+    EXPECT_EQ(L.s_cycles.size(), static_cast<size_t>(4 * g - 4));
+}
+INSTANTIATE_TEST_SUITE_P(Plates, QuadLayoutHighGenusHandleLoops, ::testing::Values(10, 12), genus_name);
+
 // ---------------------------------------------------------------------------------------------
 // 4. The verifier rejects broken layouts
 

@@ -89,6 +89,14 @@ public:
     int open_route(int x, const std::vector<int>& from_sector, int y, const std::vector<int>& to_sector,
                    const std::vector<char>& block, const std::function<double(int)>& cost);
 
+    /// The chords open_route() would split (sorted), without splitting them: for a construction
+    /// that searches on a trial copy and makes the room on the surface it started from. Edges in
+    /// `walls` (edge_key) are never crossed, as if curves walked along them.
+    std::vector<std::pair<int, int>> route_chords(
+        int x, const std::vector<int>& from_sector, int y, const std::vector<int>& to_sector,
+        const std::vector<char>& block, const std::function<double(int)>& cost,
+        const std::unordered_set<std::uint64_t>* walls = nullptr) const;
+
     /// Splits the given edges at their midpoints and inserts the midpoints into every curve that
     /// walks along them.
     void split_curve_edges(const std::vector<std::pair<int, int>>& edges);

@@ -24,6 +24,8 @@ inline constexpr double kInf = std::numeric_limits<double>::infinity();
 inline constexpr double kAdjacency = 4.0;
 /// Times a search may open the walls around it (split_chords_around) before it gives up.
 inline constexpr int kRoomAttempts = 24;
+/// A T-shirt's rings that add at most this many vertices end the search over cyclic orders.
+inline constexpr int kRingSplitsAccepted = 200;
 
 /// The layout curves, as indices into a Builder's curves (which follow every split), plus the
 /// corners they carry.
@@ -118,10 +120,12 @@ std::optional<std::vector<int>> tube_s_cycles(Builder& b, const std::vector<int>
 /// holes, one open curve per arc (added to b). With face_right the ring's face lies to the right of
 /// x0 -> x1 -> x2 -> x3 at every corner, else to the left; at each corner the face sector (between
 /// the arriving and the leaving arc) is kept clear of the hole: design.md §2, "Routing a ring".
-/// Returns the new curve ids, or nothing if some arc cannot be routed.
+/// Returns the new curve ids, or nothing if some arc cannot be routed or room for it would take the
+/// surface beyond `max_vertices`.
 std::optional<std::vector<int>> route_ring(Builder& b, const std::vector<int>& s_ids,
                                            const std::array<Hole, 4>& holes, const std::array<int, 4>& x,
-                                           bool face_right, double* length);
+                                           bool face_right, double* length,
+                                           int max_vertices = std::numeric_limits<int>::max());
 
 /// Genus >= 2: Algorithm 1, then handles (2 quads) and T-shirts (6 quads).
 Network network_of_handles_and_tshirts(Builder& b, int g, const std::vector<int>& handle_loops,
