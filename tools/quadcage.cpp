@@ -21,28 +21,36 @@ void add_mesh_output_quiet(CLI::App* cmd, std::string& mesh, std::string& dir, b
 // Returns them, for `excludes`.
 std::vector<CLI::Option*> add_embedding_flags(CLI::App* cmd, quadcage::cli::EmbeddingFlags& flags) {
     std::vector<CLI::Option*> all;
-    all.push_back(cmd->add_option("--embedding-iterations", flags.iterations,
-                     "Newton iterations of the global embedding optimisation of the layout (issue #20; 0: off,\n"
-                     "the default); experimental: reports the area balance the optimised map would give")
-                      ->check(CLI::NonNegativeNumber));
-    all.push_back(cmd->add_flag("--embedding-extract", flags.extract,
-                         "With --embedding-iterations: use the optimised map's iso-lines as the layout when\n"
-                         "that layout verifies and has a smaller patch area max/min. The corner angles are not\n"
-                         "compared: they get worse (botijo 27 -> 60 deg mean deviation), while the level-3 fit\n"
-                         "gets better (botijo: check_fit.py RMS 7.8e-4 -> 3.8e-4, Hausdorff 1.6e-2 -> 6.5e-3)"));
-    all.push_back(cmd->add_option("--embedding-area-weight", flags.area_weight,
-                     "Weight of the embedding's area term over symmetric Dirichlet (default 0): higher\n"
-                     "evens out the patch areas at the cost of the corner angles")
-                      ->check(CLI::NonNegativeNumber));
-    all.push_back(cmd->add_option("--embedding-conformal-weight", flags.conformal_weight,
-                     "Weight of the embedding's conformal term (MIPS) over symmetric Dirichlet (default 0):\n"
-                     "higher weighs the angles against the patch areas")
-                      ->check(CLI::NonNegativeNumber));
-    all.push_back(cmd->add_option("--embedding-cone-sweeps", flags.cone_sweeps,
-                     "Passes of cone relocation in the embedding (default 0; experimental): every corner\n"
-                     "moves along the surface down the energy's gradient, up to half a patch side per pass,\n"
-                     "while that lowers the optimised energy")
-                      ->check(CLI::NonNegativeNumber));
+    all.push_back(
+        cmd->add_option(
+               "--embedding-iterations", flags.iterations,
+               "Newton iterations of the global embedding optimisation of the layout (issue #20; 0: off,\n"
+               "the default); experimental: reports the area balance the optimised map would give")
+            ->check(CLI::NonNegativeNumber));
+    all.push_back(
+        cmd->add_flag("--embedding-extract", flags.extract,
+                      "With --embedding-iterations: use the optimised map's iso-lines as the layout when\n"
+                      "that layout verifies and has a smaller patch area max/min. The corner angles are not\n"
+                      "compared: they get worse (botijo 27 -> 60 deg mean deviation), while the level-3 fit\n"
+                      "gets better (botijo: check_fit.py RMS 7.8e-4 -> 3.8e-4, Hausdorff 1.6e-2 -> 6.5e-3)"));
+    all.push_back(
+        cmd->add_option("--embedding-area-weight", flags.area_weight,
+                        "Weight of the embedding's area term over symmetric Dirichlet (default 0): higher\n"
+                        "evens out the patch areas at the cost of the corner angles")
+            ->check(CLI::NonNegativeNumber));
+    all.push_back(
+        cmd->add_option(
+               "--embedding-conformal-weight", flags.conformal_weight,
+               "Weight of the embedding's conformal term (MIPS) over symmetric Dirichlet (default 0):\n"
+               "higher weighs the angles against the patch areas")
+            ->check(CLI::NonNegativeNumber));
+    all.push_back(
+        cmd->add_option(
+               "--embedding-cone-sweeps", flags.cone_sweeps,
+               "Passes of cone relocation in the embedding (default 0; experimental): every corner\n"
+               "moves along the surface down the energy's gradient, up to half a patch side per pass,\n"
+               "while that lowers the optimised energy")
+            ->check(CLI::NonNegativeNumber));
     return all;
 }
 
@@ -103,11 +111,12 @@ int main(int argc, char** argv) {
                "input), deviation.ply (the input with per-vertex distance to the surface) and report.json.\n"
                "Errors are relative to the bounding-box diagonal.");
     add_mesh_output_quiet(fit_cmd, fitopt.mesh, fitopt.output_dir, fitopt.quiet);
-    CLI::Option* cage_opt = fit_cmd->add_option("--cage", fitopt.cage,
-                        "Fit this control mesh (OBJ/PLY/OFF: closed, manifold, quads or any polygons, the genus\n"
-                        "and components of MESH, near it) instead of building a layout: its limit surface's\n"
-                        "closest points on MESH start the fit. Writes fitted_cage.obj (at level 0 the cage's\n"
-                        "own faces), limit.ply, deviation.ply and report.json; CAGE is only read");
+    CLI::Option* cage_opt = fit_cmd->add_option(
+        "--cage", fitopt.cage,
+        "Fit this control mesh (OBJ/PLY/OFF: closed, manifold, quads or any polygons, the genus\n"
+        "and components of MESH, near it) instead of building a layout: its limit surface's\n"
+        "closest points on MESH start the fit. Writes fitted_cage.obj (at level 0 the cage's\n"
+        "own faces), limit.ply, deviation.ply and report.json; CAGE is only read");
     for (CLI::Option* flag : add_embedding_flags(fit_cmd, fitopt.embedding)) cage_opt->excludes(flag);
     auto* level_opt = fit_cmd->add_option("--level", fitopt.level,
                                           "Refinements of the cage to fit (0 = the 8g-8 corners, or CAGE's own vertices);\n"

@@ -87,8 +87,8 @@ Chi chi(double D, double eps) {
 // stretches it (angles free), plus conformal_weight * (|J|^2 / det - 2) (MIPS), which is 0 where the
 // map keeps angles (area free). det is replaced by chi(det, eps) where it divides. With eps = 0 the
 // density is +inf where det J <= 0. (Derivatives checked against central differences, 1e-7.)
-double density(const Eigen::Vector4d& g, double area_weight, double conformal_weight, double eps, Eigen::Vector4d* grad,
-               Eigen::Matrix4d* hess) {
+double density(const Eigen::Vector4d& g, double area_weight, double conformal_weight, double eps,
+               Eigen::Vector4d* grad, Eigen::Matrix4d* hess) {
     const double det = g[0] * g[3] - g[1] * g[2];
     if (eps == 0 && !(det > 0)) return kInfinity;
     const Chi x = chi(det, eps);
@@ -102,7 +102,8 @@ double density(const Eigen::Vector4d& g, double area_weight, double conformal_we
     const double value = f2 * (1 + i0) + area_weight * a0 + conformal_weight * (f2 * m0 - 2);
     if (grad) {
         const Eigen::Vector4d dd(g[3], -g[2], -g[1], g[0]);  // d det / d vec(J)
-        *grad = 2 * (1 + i0 + conformal_weight * m0) * g + (f2 * (i1 + conformal_weight * m1) + area_weight * a1) * dd;
+        *grad = 2 * (1 + i0 + conformal_weight * m0) * g +
+                (f2 * (i1 + conformal_weight * m1) + area_weight * a1) * dd;
         if (hess) {
             Eigen::Matrix4d hd = Eigen::Matrix4d::Zero();  // d^2 det / d vec(J)^2
             hd(0, 3) = hd(3, 0) = 1;
@@ -134,8 +135,8 @@ struct Problem {
     double scale2 = 0;       // squared scale of the reference shapes: quads / surface area
     double area_weight = 0;  // EmbeddingOptions::area_weight
     double conformal_weight = 0;  // EmbeddingOptions::conformal_weight
-    double eps = 0;          // chi()'s regularisation: 0 for the exact energy, > 0 while untangling
-    std::vector<int> active;  // the triangles with an unknown corner (the others cannot change)
+    double eps = 0;               // chi()'s regularisation: 0 for the exact energy, > 0 while untangling
+    std::vector<int> active;      // the triangles with an unknown corner (the others cannot change)
 };
 
 Eigen::Matrix2d rotation_matrix(int quarter_turns) {
@@ -166,7 +167,8 @@ double energy(const Problem& p, const std::vector<UV>& x) {
         if (p.eps == 0 && !(signed_area2(u) > 0)) return kInfinity;
         if (p.area[t] == 0) continue;
         const Eigen::Matrix2d J = edge_matrix(u) * p.rest_inverse[t];
-        e += p.area[t] * density(Eigen::Vector4d(J(0, 0), J(0, 1), J(1, 0), J(1, 1)), p.area_weight, p.conformal_weight, p.eps, nullptr, nullptr);
+        e += p.area[t] * density(Eigen::Vector4d(J(0, 0), J(0, 1), J(1, 0), J(1, 1)), p.area_weight,
+                                 p.conformal_weight, p.eps, nullptr, nullptr);
     }
     return e;
 }
@@ -231,7 +233,8 @@ Problem build_problem(const QuadLayout& L, const Surface& s, const SeamlessMap& 
     p.area.assign(nt, 0);
     for (int t = 0; t < nt; ++t) {
         const Triangle& tri = mesh.triangles[t];
-        p.area[t] = rest_shape(mesh.points[tri[0]], mesh.points[tri[1]], mesh.points[tri[2]], p.scale2, &p.rest_inverse[t]);
+        p.area[t] = rest_shape(mesh.points[tri[0]], mesh.points[tri[1]], mesh.points[tri[2]], p.scale2,
+                               &p.rest_inverse[t]);
         p.total_area += p.area[t];
         if (p.refs[t][0].var >= 0 || p.refs[t][1].var >= 0 || p.refs[t][2].var >= 0) p.active.push_back(t);
     }
@@ -331,7 +334,8 @@ namespace {
 double min_det(const Problem& p, const std::vector<UV>& x) {
     double lo = kInfinity;
     for (const int t : p.active)
-        if (p.area[t] > 0) lo = std::min(lo, (edge_matrix(triangle_uv(p, t, x)) * p.rest_inverse[t]).determinant());
+        if (p.area[t] > 0)
+            lo = std::min(lo, (edge_matrix(triangle_uv(p, t, x)) * p.rest_inverse[t]).determinant());
     return lo;
 }
 
@@ -340,8 +344,8 @@ double min_det(const Problem& p, const std::vector<UV>& x) {
 // lowered after every step by Garanzha et al.'s rule until no triangle is flipped; then the exact
 // energy takes over. Untangling steps (at most kUntangleSteps) do not count as iterations.
 // With `free`, only the vertices it marks move.
-EmbeddingReport newton(const QuadLayout& L, const Surface& s, const EmbeddingOptions& options, SeamlessMap* map,
-                       bool untangle = false, const std::vector<char>* free = nullptr) {
+EmbeddingReport newton(const QuadLayout& L, const Surface& s, const EmbeddingOptions& options,
+                       SeamlessMap* map, bool untangle = false, const std::vector<char>* free = nullptr) {
     constexpr int kUntangleSteps = 200;
     const auto start = std::chrono::steady_clock::now();
     EmbeddingReport report;
@@ -384,7 +388,8 @@ EmbeddingReport newton(const QuadLayout& L, const Surface& s, const EmbeddingOpt
             const Eigen::Matrix2d J = edge_matrix(u) * Dinv;
             Eigen::Vector4d gJ;
             Eigen::Matrix4d hJ;
-            density(Eigen::Vector4d(J(0, 0), J(0, 1), J(1, 0), J(1, 1)), p.area_weight, p.conformal_weight, p.eps, &gJ, &hJ);
+            density(Eigen::Vector4d(J(0, 0), J(0, 1), J(1, 0), J(1, 1)), p.area_weight, p.conformal_weight,
+                    p.eps, &gJ, &hJ);
             Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d> eig(hJ);
             const Eigen::Vector4d lambda = eig.eigenvalues().cwiseMax(0.0);
             hJ = eig.eigenvectors() * lambda.asDiagonal() * eig.eigenvectors().transpose();
@@ -449,7 +454,8 @@ EmbeddingReport newton(const QuadLayout& L, const Surface& s, const EmbeddingOpt
             if (e_new <= e + 1e-4 * step * slope) break;
         }
         if (!(e_new < e)) {
-            report.message = p.eps > 0 ? "could not untangle the start map" : "the line search found no decrease";
+            report.message =
+                p.eps > 0 ? "could not untangle the start map" : "the line search found no decrease";
             break;
         }
         x.swap(trial);
@@ -762,7 +768,6 @@ bool step_cone(const QuadLayout& L, const Surface& s, int c, int w, SeamlessMap*
     return true;
 }
 
-
 // Makes *map seamless again after its transitions changed: every vertex that is no cone takes the
 // (u, v) of its copy in its lowest triangle, seen through the transitions in every other triangle.
 void reseam(const QuadLayout& L, const Surface& s, SeamlessMap* map) {
@@ -786,7 +791,8 @@ int misturned_vertices(const Mesh& mesh, const SeamlessMap& map) {
         }
     for (int v : map.cone_vertex) turn[v] *= 0.8;
     constexpr double kTurn = 6.283185307179586;
-    return static_cast<int>(std::count_if(turn.begin(), turn.end(), [](double x) { return std::abs(x - kTurn) > 1e-6; }));
+    return static_cast<int>(
+        std::count_if(turn.begin(), turn.end(), [](double x) { return std::abs(x - kTurn) > 1e-6; }));
 }
 
 // The triangles around v, in rotation order.
@@ -806,8 +812,8 @@ std::vector<int> triangles_around(const Surface& s, int v) {
 // do not change this to first order, so it is the gradient of the optimised energy: sliding the cone
 // vertex along its tangent plane changes only the reference shapes of its ring. Central differences
 // in the tangent plane.
-Vec3 cone_force(const QuadLayout& L, const Surface& s, const SeamlessMap& map, double scale2, double area_weight,
-                double conformal_weight, int c) {
+Vec3 cone_force(const QuadLayout& L, const Surface& s, const SeamlessMap& map, double scale2,
+                double area_weight, double conformal_weight, int c) {
     const Mesh& mesh = L.mesh;
     const int v = map.cone_vertex[c];
     const std::vector<int> ring = triangles_around(s, v);
@@ -815,7 +821,8 @@ Vec3 cone_force(const QuadLayout& L, const Surface& s, const SeamlessMap& map, d
     double edge = 0;
     for (int t : ring) {
         const Triangle& tri = mesh.triangles[t];
-        normal = normal + cross(mesh.points[tri[1]] - mesh.points[tri[0]], mesh.points[tri[2]] - mesh.points[tri[0]]);
+        normal = normal +
+                 cross(mesh.points[tri[1]] - mesh.points[tri[0]], mesh.points[tri[2]] - mesh.points[tri[0]]);
         const int k = corner_index(mesh, t, v);
         edge += norm(mesh.points[tri[(k + 1) % 3]] - mesh.points[v]);
     }
@@ -833,12 +840,14 @@ Vec3 cone_force(const QuadLayout& L, const Surface& s, const SeamlessMap& map, d
         double e = 0;
         for (int t : ring) {
             std::array<Vec3, 3> q;
-            for (int k = 0; k < 3; ++k) q[k] = mesh.triangles[t][k] == v ? at : mesh.points[mesh.triangles[t][k]];
+            for (int k = 0; k < 3; ++k)
+                q[k] = mesh.triangles[t][k] == v ? at : mesh.points[mesh.triangles[t][k]];
             Eigen::Matrix2d rest_inverse;
             const double area = rest_shape(q[0], q[1], q[2], scale2, &rest_inverse);
             if (area == 0) continue;
             const Eigen::Matrix2d J = edge_matrix(map.uv[t]) * rest_inverse;
-            e += area * density(Eigen::Vector4d(J(0, 0), J(0, 1), J(1, 0), J(1, 1)), area_weight, conformal_weight, 0, nullptr, nullptr);
+            e += area * density(Eigen::Vector4d(J(0, 0), J(0, 1), J(1, 0), J(1, 1)), area_weight,
+                                conformal_weight, 0, nullptr, nullptr);
         }
         return e;
     };
@@ -901,8 +910,10 @@ int relocate_cones(const QuadLayout& L, const EmbeddingOptions& options, int swe
             int moved = 0;
             for (int c = 0; c < nc; ++c) {
                 const int v = m.cone_vertex[c];
+                if (!(norm(force[c]) > 0)) continue;
                 const double length = alpha * side * norm(force[c]) / strongest;
-                const std::vector<int> path = path_towards(s, v, s.point(v) + force[c] * (length / norm(force[c])), blocked);
+                const std::vector<int> path =
+                    path_towards(s, v, s.point(v) + force[c] * (length / norm(force[c])), blocked);
                 if (path.empty()) continue;
                 // One edge at a time, each step untangled and relaxed around it (2 rings).
                 for (const int w : path) {
@@ -1077,13 +1088,15 @@ namespace {
 
 // The S-cycles of L on new layout edges: each S-cycle of L runs along two of its layout edges; it
 // becomes the same two of `paths` (indexed like L.edge_paths), joined. "" or what fails.
-std::string follow_s_cycles(const QuadLayout& L, const std::vector<std::vector<int>>& paths, std::vector<Cycle>* out) {
+std::string follow_s_cycles(const QuadLayout& L, const std::vector<std::vector<int>>& paths,
+                            std::vector<Cycle>* out) {
     for (const Cycle& c : L.s_cycles) {
         std::vector<char> in(L.mesh.num_vertices(), 0);
         for (int v : c) in[v] = 1;
         std::vector<int> edges;
         for (size_t e = 0; e < L.edge_paths.size(); ++e)
-            if (std::all_of(L.edge_paths[e].begin(), L.edge_paths[e].end(), [&](int v) { return in[v] != 0; }))
+            if (std::all_of(L.edge_paths[e].begin(), L.edge_paths[e].end(),
+                            [&](int v) { return in[v] != 0; }))
                 edges.push_back(static_cast<int>(e));
         if (edges.size() != 2) return "an S-cycle is not two layout edges";
         Cycle r = paths[edges[0]];
@@ -1298,7 +1311,8 @@ std::string extract_layout(const QuadLayout& L, const SeamlessMap& map_in, QuadL
         return r;
     };
     for (const Cycle& c : L.orthogonal_system) out.orthogonal_system.push_back(split_cycle(c));
-    if (const std::string problem = follow_s_cycles(L, out.edge_paths, &out.s_cycles); !problem.empty()) return problem;
+    if (const std::string problem = follow_s_cycles(L, out.edge_paths, &out.s_cycles); !problem.empty())
+        return problem;
 
     // The patch maps are recomputed, not the optimised map restricted to each square: as the fit's
     // start that map (with sides checked for agreement instead of arc length) fitted botijo better

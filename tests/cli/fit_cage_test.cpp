@@ -134,16 +134,19 @@ TEST(CliFitCage, BadCagesExitThree) {
 // --cage there is no layout, so the flags are a usage error that writes nothing.
 TEST(CliFitEmbedding, TheFlagsReachTheLayoutAndExcludeCage) {
     const fs::path dir = scratch_dir("quadcage_fit_embedding_");
-    const CliRun r = quadcage_cli("fit " + shell_quoted(eight()) + " --level 1 --embedding-iterations 10 "
-                                  "--embedding-extract -o " + shell_quoted(dir / "out"),
+    const CliRun r = quadcage_cli("fit " + shell_quoted(eight()) +
+                                      " --level 1 --embedding-iterations 10 "
+                                      "--embedding-extract -o " +
+                                      shell_quoted(dir / "out"),
                                   dir);
     ASSERT_EQ(r.code, 0) << r.log;
     EXPECT_NE(r.log.find("layout: embedding: keeping the extracted layout"), std::string::npos) << r.log;
     const nlohmann::json report = nlohmann::json::parse(slurp(dir / "out" / "report.json"));
     EXPECT_EQ(report["quads"], 10);
-    const CliRun both = quadcage_cli("fit " + shell_quoted(eight()) + " --cage " + shell_quoted(eight_quadriflow()) +
-                                     " --embedding-iterations 10 -q -o " + shell_quoted(dir / "out2"),
-                                     dir);
+    const CliRun both =
+        quadcage_cli("fit " + shell_quoted(eight()) + " --cage " + shell_quoted(eight_quadriflow()) +
+                         " --embedding-iterations 10 -q -o " + shell_quoted(dir / "out2"),
+                     dir);
     EXPECT_EQ(both.code, 2) << both.log;
     EXPECT_NE(both.log.find("--cage excludes --embedding-iterations"), std::string::npos) << both.log;
     EXPECT_FALSE(fs::exists(dir / "out2"));
