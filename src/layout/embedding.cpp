@@ -329,7 +329,6 @@ std::string EmbeddingOptions::validate() const {
 
 namespace {
 
-// Projected Newton on map->uv, with map's charts and cones.
 // The smallest det J over the triangles that carry energy (det J <= 0: flipped).
 double min_det(const Problem& p, const std::vector<UV>& x) {
     double lo = kInfinity;
