@@ -643,6 +643,15 @@ int corner_index(const Mesh& mesh, int t, int v) {
     return tri[0] == v ? 0 : (tri[1] == v ? 1 : (tri[2] == v ? 2 : -1));
 }
 
+// The signed angle of uv triangle u at its corner k (negative where the triangle is flipped).
+double corner_angle(const std::array<UV, 3>& u, int k) {
+    const UV& a = u[k];
+    const UV& b = u[(k + 1) % 3];
+    const UV& c = u[(k + 2) % 3];
+    const UV e1{b[0] - a[0], b[1] - a[1]}, e2{c[0] - a[0], c[1] - a[1]};
+    return std::atan2(cross2(e1, e2), e1[0] * e2[0] + e1[1] * e2[1]);
+}
+
 // Moves cone c of *map from its vertex v to v's neighbour w: edge v-w becomes a cut whose
 // transition turns about the cone's lattice point (v becomes regular, w the cone); w goes to the
 // lattice point and v to the mean of its neighbours in the cone's power chart (y - L)^(4/5), where
@@ -746,12 +755,7 @@ bool step_cone(const QuadLayout& L, const Surface& s, int c, int w, SeamlessMap*
         double sum = 0;
         for (int t : tris) {
             const int k = corner_index(mesh, t, x);
-            if (k < 0) continue;
-            const UV& a = m.uv[t][k];
-            const UV& b = m.uv[t][(k + 1) % 3];
-            const UV& c2 = m.uv[t][(k + 2) % 3];
-            const UV e1{b[0] - a[0], b[1] - a[1]}, e2{c2[0] - a[0], c2[1] - a[1]};
-            sum += std::atan2(cross2(e1, e2), e1[0] * e2[0] + e1[1] * e2[1]);
+            if (k >= 0) sum += corner_angle(m.uv[t], k);
         }
         return sum;
     };
@@ -781,29 +785,11 @@ void reseam(const QuadLayout& L, const Surface& s, SeamlessMap* map) {
 int misturned_vertices(const Mesh& mesh, const SeamlessMap& map) {
     std::vector<double> turn(mesh.num_vertices(), 0);
     for (int t = 0; t < mesh.num_triangles(); ++t)
-        for (int k = 0; k < 3; ++k) {
-            const UV& a = map.uv[t][k];
-            const UV& b = map.uv[t][(k + 1) % 3];
-            const UV& c = map.uv[t][(k + 2) % 3];
-            const UV e1{b[0] - a[0], b[1] - a[1]}, e2{c[0] - a[0], c[1] - a[1]};
-            turn[mesh.triangles[t][k]] += std::atan2(cross2(e1, e2), e1[0] * e2[0] + e1[1] * e2[1]);
-        }
+        for (int k = 0; k < 3; ++k) turn[mesh.triangles[t][k]] += corner_angle(map.uv[t], k);
     for (int v : map.cone_vertex) turn[v] *= 0.8;
     constexpr double kTurn = 6.283185307179586;
     return static_cast<int>(
         std::count_if(turn.begin(), turn.end(), [](double x) { return std::abs(x - kTurn) > 1e-6; }));
-}
-
-// The triangles around v, in rotation order.
-std::vector<int> triangles_around(const Surface& s, int v) {
-    std::vector<int> out;
-    const int h = s.out_half_edge(v);
-    for (int g = h;;) {
-        out.push_back(g / 3);
-        g = s.rotate(g);
-        if (g == h || out.size() > 100000) break;
-    }
-    return out;
 }
 
 // The configurational force on cone c (Eshelby): minus the gradient of the energy with respect to
@@ -815,7 +801,8 @@ Vec3 cone_force(const QuadLayout& L, const Surface& s, const SeamlessMap& map, d
                 double area_weight, double conformal_weight, int c) {
     const Mesh& mesh = L.mesh;
     const int v = map.cone_vertex[c];
-    const std::vector<int> ring = triangles_around(s, v);
+    std::vector<int> ring;  // the triangles around v
+    for (const int h : s.out_half_edges(v)) ring.push_back(h / 3);
     Vec3 normal{0, 0, 0};
     double edge = 0;
     for (int t : ring) {
