@@ -296,6 +296,8 @@ void Builder::split_curve_edges(const std::vector<std::pair<int, int>>& edges) {
     for (size_t c = 0; c < curves_.size(); ++c)
         curves_[c] = std::move(closed_[c] ? closed[ic++] : open[io++]);
     splits_ += static_cast<int>(edges.size());
+    if (max_vertices_ > 0 && s_.num_vertices() > max_vertices_)
+        throw OverBudget("the layout curves needed more than " + std::to_string(max_vertices_) + " vertices");
 }
 
 std::function<double(int)> Builder::cost_near(const std::vector<char>& block,

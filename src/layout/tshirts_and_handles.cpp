@@ -268,6 +268,7 @@ Network network_of_handles_and_tshirts(Builder& b, int g, const std::vector<int>
         for (int i = 0; i < 2 * g; ++i) b.obstacle_[i] = 1;
     }
     net.s_cycles = tubes ? *tubes : place_s_cycles(b, g, say);
+    net.s_cycles_from_handle_loops = tubes.has_value();
     // From here on the orthogonal system is scaffolding: layout curves may cross it.
     for (int i = 0; i < 2 * g; ++i) b.obstacle_[i] = 0;
     const Pieces pieces = find_pieces(b, net.s_cycles, g);

@@ -342,6 +342,53 @@ TEST(QuadLayoutHandleLoopSCycles, PlatesUseThemAndVerify) {
     }
 }
 
+// Which S-cycles make the better layout depends on the shape (issue #20): on a big body with small
+// handles Algorithm 1's (patch area max/min 36 against 56, level-3 Hausdorff 3.7e-3 against
+// 1.5e-2), on fertility the handle loops'. The layout builds both and keeps Algorithm 1's only when
+// it is better balanced on both counts; Algorithm 1's is abandoned once it refines more than the
+// bound or the first layout (eight: both about 2,300 vertices; Algorithm 1's a few more).
+TEST(QuadLayoutSCycleChoice, ABodyWithSmallHandlesKeepsAlgorithmOnesSCycles) {
+    shapes::HandleBodyOptions ho;
+    ho.handles = 3;
+    ho.resolution = 2;  // `generate handles -g 3`; at 3 voxels a cell the handle loops' balance better
+    const Mesh input = shapes::body_with_handles(ho);
+    layout::QuadLayoutOptions one;
+    one.s_cycles_compare = false;
+    const QuadLayout from_loops = build_quad_layout(input, one);
+    one.s_cycles_from_handle_loops = false;
+    const QuadLayout algorithm1 = build_quad_layout(input, one);
+    layout::QuadLayoutOptions o;
+    EXPECT_TRUE(o.s_cycles_compare);  // the default
+    std::vector<std::string> said;
+    o.progress = [&said](const std::string& m) { said.push_back(m); };
+    const QuadLayout L = build_quad_layout(input, o);
+    expect_valid_layout(L, input, 3);
+    EXPECT_TRUE(std::any_of(said.begin(), said.end(), [](const std::string& m) {
+        return m.find("keeping Algorithm 1's") != std::string::npos;
+    }));
+    EXPECT_LT(L.quality.patch_area_max_over_min, from_loops.quality.patch_area_max_over_min);
+    EXPECT_LT(L.quality.corner_angle_mean_deviation_deg, from_loops.quality.corner_angle_mean_deviation_deg);
+    EXPECT_EQ(L.mesh.points, algorithm1.mesh.points);
+    EXPECT_EQ(L.triangle_patch, algorithm1.triangle_patch);
+}
+
+TEST(QuadLayoutSCycleChoice, AlgorithmOnesAreAbandonedPastTheRefinementBudget) {
+    const Mesh input = read_mesh(std::string(QUADCAGE_DATA_DIR) + "/eight.off");
+    layout::QuadLayoutOptions o;
+    std::vector<std::string> said;
+    o.progress = [&said](const std::string& m) { said.push_back(m); };
+    layout::QuadLayoutOptions one;
+    one.s_cycles_compare = false;
+    const QuadLayout from_loops = build_quad_layout(input, one);
+    const QuadLayout L = build_quad_layout(input, o);
+    EXPECT_TRUE(std::any_of(said.begin(), said.end(), [](const std::string& m) {
+        return m.find("keeping the handle loops' (Algorithm 1's: the layout curves needed more than") !=
+               std::string::npos;
+    }));
+    EXPECT_EQ(L.mesh.points, from_loops.mesh.points);
+    EXPECT_EQ(L.triangle_patch, from_loops.triangle_patch);
+}
+
 // Plates of genus 9 and more: the handle annuli or the body annuli of the handle-loop S-cycles
 // found no room between close holes, and Algorithm 1's S-cycles took over; they wind round the
 // plate side by side, each T-shirt ring then squeezed along corridors between them and the mesh

@@ -27,6 +27,13 @@ struct QuadLayoutOptions {
     /// fertility RMS 1.9e-3 -> 2.4e-4, Hausdorff 2.6e-2 -> 4.0e-3; botijo RMS 1.55e-3 -> 1.43e-3 but
     /// Hausdorff 2.6e-2 -> 3.6e-2. The README has the current figures.
     bool s_cycles_from_handle_loops = true;
+    /// With s_cycles_from_handle_loops, where the handle loops gave the S-cycles: build the layout
+    /// with Algorithm 1's S-cycles too (refining the surface no more than vertices_added_bound(),
+    /// or than the first layout if that passed it) and keep it if both its patch area max/min and
+    /// its corner angle deviation are smaller. Which fits better depends on the shape (big bodies
+    /// with small handles: Algorithm 1's; fertility, botijo: the handle loops'; the README's
+    /// Benchmarks). This about doubles the time of the layout curves.
+    bool s_cycles_compare = true;
     int relax_sweeps = 3;  ///< Passes that move every layout edge to the middle of its two patches
                            ///< (0: keep the constructed routes), >= 0.
     int relax_corner_sweeps = 2;  ///< The first this many of those passes first move every corner

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "detail/surface.h"
+#include "quadcage/core/errors.h"
 #include "quadcage/layout/orthogonal_system.h"
 
 namespace quadcage::layout::detail {
@@ -32,6 +33,13 @@ std::vector<int> spread(const Cycle& c, int k, const std::function<bool(int)>& s
 
 /// State of a curve construction: the surface, the curves, and which of them are obstacles now.
 /// Copyable: trying alternatives on a copy is how constructions pick the shorter of two routes.
+/// Thrown when a Builder's splits pass its vertex budget (Builder::max_vertices_): the layout being
+/// built is abandoned, not retried.
+class OverBudget : public InternalError {
+public:
+    using InternalError::InternalError;
+};
+
 class Builder {
 public:
     Builder(const Mesh& mesh, const OrthogonalSystemOptions& o);
@@ -43,6 +51,8 @@ public:
     std::vector<char> obstacle_;  ///< Per curve: does the current search avoid it.
     std::vector<char> closed_;    ///< Per curve: closed (a cycle) or an open path.
     int splits_ = 0;
+    /// Vertices the surface may reach (0: no limit); a split past it throws OverBudget.
+    long long max_vertices_ = 0;
 
     /// Adds a curve; returns its index.
     int add_curve(Cycle c, bool closed = true, bool obstacle = true);

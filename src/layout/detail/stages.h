@@ -34,6 +34,7 @@ struct Network {
     std::vector<std::pair<int, std::vector<int>>> closed;  // closed curve -> its corners (cut there)
     std::vector<int> arcs;                                 // open curves from a corner to a corner
     std::vector<int> s_cycles;                             // Algorithm 1's S_i (g >= 2)
+    bool s_cycles_from_handle_loops = false;               // else Algorithm 1's (g >= 2)
 };
 
 /// One side of a closed curve that bounds a piece: the curve and which side faces the piece.
