@@ -305,6 +305,40 @@ std::vector<subdiv::FacePoint> surface_samples(int faces, int per_face) {
     return out;
 }
 
+/// A residual r = A (S - p) of a point (S its limit point) in the form the normal equations take:
+/// A^T A = alpha I + beta n n^T (n a unit vector) and c = A^T A p. Point to point: A = I; tangent
+/// weighted: alpha = mu, beta = 1 - mu; point to plane: alpha = 0, beta = 1 (times the weights).
+struct PointTerm {
+    double alpha = 0, beta = 0;
+    Vec3 n, c;
+};
+
+/// Stencil weights of points grouped by control face, each face's points together in memory and
+/// in their index order (the normal equations read them face by face; scattered, reading them
+/// took most of the assembly). Slot s (of point slot_of[i]) holds size[face] weights from at[s].
+struct FaceOrderedWeights {
+    std::vector<int> begin;      ///< Per face, its first slot; begin[nf] = number of points.
+    std::vector<int> slot_of;    ///< Per point, its slot.
+    std::vector<size_t> at;      ///< Per slot, where its weights start.
+    std::vector<double> weights;
+
+    FaceOrderedWeights(const std::vector<int>& face_of, const std::vector<int>& face_size) {
+        const int nf = static_cast<int>(face_size.size()), n = static_cast<int>(face_of.size());
+        begin.assign(nf + 1, 0);
+        for (int f : face_of) ++begin[f + 1];
+        for (int f = 0; f < nf; ++f) begin[f + 1] += begin[f];
+        std::vector<int> next(begin.begin(), begin.end() - 1);
+        slot_of.resize(n);
+        for (int i = 0; i < n; ++i) slot_of[i] = next[face_of[i]]++;
+        at.resize(n);
+        size_t total = 0;
+        for (int f = 0; f < nf; ++f)
+            for (int s = begin[f]; s < begin[f + 1]; ++s) at[s] = total, total += face_size[f];
+        weights.resize(total);
+    }
+    double* of_point(int i) { return weights.data() + at[slot_of[i]]; }
+};
+
 struct LevelState {
     std::vector<Vec3> vars;
     std::vector<DataPoint> data;
@@ -402,6 +436,14 @@ std::string format(const char* fmt, double a, double b = 0, double c = 0) {
     return buf;
 }
 
+/// Checks that a stencil on `face` uses the face's control points, in their (sorted) order.
+void check_clique(const detail::NormalEquations& normal, int face, const Combo& c) {
+    const std::vector<int>& vars = normal.clique(face);
+    QC_CHECK(vars.size() == c.size() && std::equal(vars.begin(), vars.end(), c.begin(),
+                                                    [](int v, const auto& vw) { return v == vw.first; }),
+             "fit: a stencil on face " + std::to_string(face) + " uses other control points than the face");
+}
+
 /// Runs the rounds of one level from `state` (variables and correspondences on topo.mesh_level
 /// faces); leaves the best variables and their correspondences in `state`.
 LevelReport fit_level(const Context& ctx, const LevelTopology& topo, subdiv::LimitSurface& surface, LevelState& state) {
@@ -451,6 +493,19 @@ LevelReport fit_level(const Context& ctx, const LevelTopology& topo, subdiv::Lim
             for (const auto& vw : laplacian[k]) cliques[nf + k].push_back(vw.first);
         normal.emplace(topo.num_vars, std::move(cliques));
     }
+    std::vector<int> clique_size(nf), sample_face(ns);
+    if (normal)
+        for (int f = 0; f < nf; ++f) clique_size[f] = static_cast<int>(normal->clique(f).size());
+    for (int i = 0; i < ns; ++i) sample_face[i] = s_params[i].face;
+    std::optional<FaceOrderedWeights> surf_packed;
+    if (normal) {
+        surf_packed.emplace(sample_face, clique_size);
+        parallel_for(ns, ctx.threads, [&](int i) {
+            check_clique(*normal, s_params[i].face, surf_combo[i]);
+            double* w = surf_packed->of_point(i);
+            for (const auto& vw : surf_combo[i]) *w++ = vw.second;
+        });
+    }
     // Once the data RMS stalls, one last round with the final (smallest) smoothness weight, so an
     // early stop does not leave the surface biased by a large smoothness term.
     bool final_round = false;
@@ -468,12 +523,26 @@ LevelReport fit_level(const Context& ctx, const LevelTopology& topo, subdiv::Lim
         const double near2 = std::pow(kNearDistance * ctx.diagonal, 2);
         // Stencils of the data correspondences and of the surface samples.
         clock = Clock::now();
-        std::vector<Combo> data_combo(nd);
+        const bool direct = o.solver == FitSolver::Direct;
+        std::vector<Combo> data_combo(direct ? 0 : nd);
+        std::optional<FaceOrderedWeights> data_packed;
+        if (direct) {
+            std::vector<int> data_face(nd);
+            for (int i = 0; i < nd; ++i) data_face[i] = state.data[i].c.face;
+            data_packed.emplace(data_face, clique_size);
+        }
         std::vector<Vec3> surf_pos(ns), data_pos(nd), data_normal(nd);
         std::vector<double> surf_weight(ns);
         parallel_for(nd, ctx.threads, [&](int i) {
             const subdiv::LimitStencil s = surface.stencil(state.data[i].c);
-            data_combo[i] = topo.compose(s.indices, s.position_weights);
+            Combo c = topo.compose(s.indices, s.position_weights);
+            if (direct) {
+                check_clique(*normal, state.data[i].c.face, c);
+                double* w = data_packed->of_point(i);
+                for (const auto& vw : c) *w++ = vw.second;
+            } else {
+                data_combo[i] = std::move(c);
+            }
             const subdiv::LimitPoint e = limit_point(surface, s);
             data_pos[i] = e.position;
             // Squared-distance minimisation approximates the distance well only near the surface
@@ -540,8 +609,9 @@ LevelReport fit_level(const Context& ctx, const LevelTopology& topo, subdiv::Lim
             for (const auto& vw : c) out.push_back(vw.second);
             return out;
         };
-        std::vector<detail::StencilRows> data_rows(nd), surf_rows(o.surface_to_input_weight > 0 ? ns : 0);
-        parallel_for(nd, ctx.threads, [&](int i) {
+        std::vector<detail::StencilRows> data_rows(direct ? 0 : nd),
+            surf_rows(!direct && o.surface_to_input_weight > 0 ? ns : 0);
+        parallel_for(static_cast<int>(data_rows.size()), ctx.threads, [&](int i) {
             const Vec3& n = data_normal[i];
             std::vector<double> wi = weights_of(data_combo[i]);
             data_rows[i] = scaled(mu < 1 && dot(n, n) > 0.5
@@ -558,19 +628,44 @@ LevelReport fit_level(const Context& ctx, const LevelTopology& topo, subdiv::Lim
             surf_rows[i] = scaled(detail::point_to_plane_rows(weights_of(surf_combo[i]), hits[i].point, n / len, 1.0),
                                   surf_pos[i], surf_weight[i]);
         });
-        if (o.solver == FitSolver::Direct) {
-            // The rows of each face's points, then the normal equations (design: normal_equations.h).
-            std::vector<std::vector<const detail::StencilRows*>> members(nf);
-            auto add_member = [&](int face, const Combo& c, const detail::StencilRows& rows) {
-                const std::vector<int>& vars = normal->clique(face);
-                QC_CHECK(vars.size() == c.size() && std::equal(vars.begin(), vars.end(), c.begin(),
-                                                                [](int v, const auto& vw) { return v == vw.first; }),
-                         "fit: a stencil on face " + std::to_string(face) + " uses other control points than the face");
-                members[face].push_back(&rows);
-            };
-            for (int i = 0; i < nd; ++i) add_member(state.data[i].c.face, data_combo[i], data_rows[i]);
-            for (int i = 0; i < static_cast<int>(surf_rows.size()); ++i)
-                if (!surf_rows[i].weights.empty()) add_member(s_params[i].face, surf_combo[i], surf_rows[i]);
+        if (direct) {
+            // Each point's residual in normal form (PointTerm), with the Huber reweighting of
+            // `scaled` (the same residuals as the rows above), then the normal equations by face
+            // (design: normal_equations.h).
+            auto huber = [&](double s2) { return s2 <= delta2 ? 1.0 : std::sqrt(delta2 / s2); };
+            std::vector<PointTerm> data_terms(nd), surf_terms(o.surface_to_input_weight > 0 ? ns : 0);
+            std::vector<char> surf_used(surf_terms.size(), 0);
+            parallel_for(nd, ctx.threads, [&](int i) {
+                const Vec3& n = data_normal[i];
+                const Vec3& p = state.data[i].p;
+                const Vec3 r = data_pos[i] - p;
+                PointTerm& t = data_terms[data_packed->slot_of[i]];
+                if (mu < 1 && dot(n, n) > 0.5) {
+                    // A = sqrt(mu) I + (1 - sqrt(mu)) n n^T: A^T A = mu I + (1 - mu) n n^T.
+                    const double rn = dot(r, n);
+                    const double k = data_weight * huber(mu * dot(r, r) + (1 - mu) * rn * rn);
+                    t.alpha = k * mu;
+                    t.beta = k * (1 - mu);
+                    t.n = n;
+                } else {
+                    t.alpha = data_weight * huber(dot(r, r));
+                }
+                t.c = p * t.alpha + t.n * (t.beta * dot(t.n, p));
+            });
+            parallel_for(static_cast<int>(surf_terms.size()), ctx.threads, [&](int i) {
+                const Triangle& tri = ctx.mesh.triangles[hits[i].triangle];
+                const Vec3& a = ctx.mesh.points[tri[0]];
+                const Vec3 n = cross(ctx.mesh.points[tri[1]] - a, ctx.mesh.points[tri[2]] - a);
+                const double len = norm(n);
+                if (!(len > 0)) return;  // no residual
+                PointTerm& t = surf_terms[surf_packed->slot_of[i]];
+                t.n = n / len;
+                const double d = dot(t.n, hits[i].point);
+                const double rn = dot(t.n, surf_pos[i]) - d;
+                t.beta = surf_weight[i] * huber(rn * rn);
+                t.c = t.n * (t.beta * d);
+                surf_used[surf_packed->slot_of[i]] = 1;
+            });
             const double lap2 = lambda > 0 ? lambda / laplacian.size() : 0.0;
             const double t_rows = seconds_since(clock);
             normal->assemble(
@@ -588,20 +683,38 @@ LevelReport fit_level(const Context& ctx, const LevelTopology& topo, subdiv::Lim
                                 for (int d = 0; d < 3; ++d) jtj(3 * a + d, 3 * b + d) = lap2 * w[a] * w[b];
                         return;
                     }
-                    int rows = 0;
-                    for (const detail::StencilRows* r : members[k]) rows += r->rows;
-                    if (rows == 0) return;
-                    Eigen::MatrixXd j(rows, 3 * m);
-                    Eigen::VectorXd b(rows);
-                    int row = 0;
-                    for (const detail::StencilRows* r : members[k])
-                        for (int q = 0; q < r->rows; ++q, ++row) {
-                            for (int a = 0; a < m; ++a)
-                                for (int d = 0; d < 3; ++d) j(row, 3 * a + d) = r->weights[a] * r->a[3 * q + d];
-                            b(row) = r->b[q];
-                        }
-                    jtj.selfadjointView<Eigen::Upper>().rankUpdate(j.transpose());
-                    jtb.noalias() = j.transpose() * b;
+                    // A point's share of J^T J is (w w^T) kron G with G = alpha I + beta n n^T: for each
+                    // of G's 6 distinct entries (d, e), sum_p G_p(d, e) w_p w_p^T, then spread over
+                    // the 3 x 3 blocks. That is m^2 / 2 products of 6 numbers per point, against
+                    // rows x (3m)^2 / 2 for J^T J from the point's 1 or 3 rows of 3m.
+                    const int pairs = m * (m + 1) / 2;
+                    std::vector<double> acc(6 * static_cast<size_t>(pairs), 0.0);
+                    auto add = [&](const PointTerm& t, const double* w) {
+                        const double g[6] = {t.alpha + t.beta * t.n.x * t.n.x, t.beta * t.n.x * t.n.y,
+                                             t.beta * t.n.x * t.n.z,          t.alpha + t.beta * t.n.y * t.n.y,
+                                             t.beta * t.n.y * t.n.z,          t.alpha + t.beta * t.n.z * t.n.z};
+                        for (int a = 0; a < m; ++a)
+                            for (int d = 0; d < 3; ++d) jtb(3 * a + d) += w[a] * t.c[d];
+                        double* out = acc.data();
+                        for (int b = 0; b < m; ++b)
+                            for (int a = 0; a <= b; ++a, out += 6) {
+                                const double ww = w[a] * w[b];
+                                for (int q = 0; q < 6; ++q) out[q] += ww * g[q];
+                            }
+                    };
+                    for (int s = data_packed->begin[k]; s < data_packed->begin[k + 1]; ++s)
+                        add(data_terms[s], data_packed->weights.data() + data_packed->at[s]);
+                    if (!surf_terms.empty())
+                        for (int s = surf_packed->begin[k]; s < surf_packed->begin[k + 1]; ++s)
+                            if (surf_used[s]) add(surf_terms[s], surf_packed->weights.data() + surf_packed->at[s]);
+                    const double* in = acc.data();
+                    constexpr int kD[6] = {0, 0, 0, 1, 1, 2}, kE[6] = {0, 1, 2, 1, 2, 2};
+                    for (int b = 0; b < m; ++b)
+                        for (int a = 0; a <= b; ++a, in += 6)
+                            for (int q = 0; q < 6; ++q) {
+                                jtj(3 * a + kD[q], 3 * b + kE[q]) = in[q];
+                                if (a < b) jtj(3 * a + kE[q], 3 * b + kD[q]) = in[q];
+                            }
                 },
                 ctx.threads);
             // Ceres' Levenberg-Marquardt starts with the damping diag(J^T J) / 1e4; the same here,
