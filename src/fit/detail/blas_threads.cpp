@@ -21,27 +21,9 @@ GetThreads get_threads() {
     return f;
 }
 
-// The OpenMP runtime's, likewise: Debian's CHOLMOD runs parts of its factorisation in OpenMP
-// parallel loops, and an idle OpenMP team spins a while before it sleeps.
-SetThreads omp_set() {
-    static const auto f = reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "omp_set_num_threads"));
-    return f;
-}
-GetThreads omp_get() {
-    static const auto f = reinterpret_cast<GetThreads>(dlsym(RTLD_DEFAULT, "omp_get_max_threads"));
-    return f;
-}
-
 }  // namespace
 
 ScopedBlasThreads::ScopedBlasThreads(int threads) {
-    if (omp_set() && omp_get()) {
-        previous_omp_ = omp_get()();
-        if (previous_omp_ != threads)
-            omp_set()(threads);
-        else
-            previous_omp_ = 0;
-    }
     const SetThreads set = set_threads();
     const GetThreads get = get_threads();
     if (!set || !get) return;
@@ -52,7 +34,6 @@ ScopedBlasThreads::ScopedBlasThreads(int threads) {
 
 ScopedBlasThreads::~ScopedBlasThreads() {
     if (previous_ > 0) set_threads()(previous_);
-    if (previous_omp_ > 0) omp_set()(previous_omp_);
 }
 
 }  // namespace quadcage::fit::detail
