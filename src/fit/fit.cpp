@@ -305,14 +305,6 @@ std::vector<subdiv::FacePoint> surface_samples(int faces, int per_face) {
     return out;
 }
 
-/// A residual r = A (S - p) of a point (S its limit point) in the form the normal equations take:
-/// A^T A = alpha I + beta n n^T (n a unit vector) and c = A^T A p. Point to point: A = I; tangent
-/// weighted: alpha = mu, beta = 1 - mu; point to plane: alpha = 0, beta = 1 (times the weights).
-struct PointTerm {
-    double alpha = 0, beta = 0;
-    Vec3 n, c;
-};
-
 /// Stencil weights of points grouped by control face, each face's points together in memory and
 /// in their index order (the normal equations read them face by face; scattered, reading them
 /// took most of the assembly). Slot s (of point slot_of[i]) holds size[face] weights from at[s].
@@ -609,63 +601,34 @@ LevelReport fit_level(const Context& ctx, const LevelTopology& topo, subdiv::Lim
             for (const auto& vw : c) out.push_back(vw.second);
             return out;
         };
-        std::vector<detail::StencilRows> data_rows(direct ? 0 : nd),
-            surf_rows(!direct && o.surface_to_input_weight > 0 ? ns : 0);
-        parallel_for(static_cast<int>(data_rows.size()), ctx.threads, [&](int i) {
+        // The direct path keeps the rows by face (slots of data_packed and surf_packed) and reads
+        // their weights from there; Ceres' cost functions own theirs.
+        std::vector<detail::StencilRows> data_rows(nd), surf_rows(o.surface_to_input_weight > 0 ? ns : 0);
+        std::vector<char> surf_used(surf_rows.size(), 0);
+        parallel_for(nd, ctx.threads, [&](int i) {
             const Vec3& n = data_normal[i];
-            std::vector<double> wi = weights_of(data_combo[i]);
-            data_rows[i] = scaled(mu < 1 && dot(n, n) > 0.5
-                                      ? detail::tangent_weighted_rows(std::move(wi), state.data[i].p, n, mu, 1.0)
-                                      : detail::point_to_point_rows(std::move(wi), state.data[i].p, 1.0),
-                                  data_pos[i], data_weight);
+            std::vector<double> wi = direct ? std::vector<double>{} : weights_of(data_combo[i]);
+            data_rows[direct ? data_packed->slot_of[i] : i] =
+                scaled(mu < 1 && dot(n, n) > 0.5
+                           ? detail::tangent_weighted_rows(std::move(wi), state.data[i].p, n, mu, 1.0)
+                           : detail::point_to_point_rows(std::move(wi), state.data[i].p, 1.0),
+                       data_pos[i], data_weight);
         });
         parallel_for(static_cast<int>(surf_rows.size()), ctx.threads, [&](int i) {
             const Triangle& tri = ctx.mesh.triangles[hits[i].triangle];
             const Vec3& a = ctx.mesh.points[tri[0]];
             const Vec3 n = cross(ctx.mesh.points[tri[1]] - a, ctx.mesh.points[tri[2]] - a);
             const double len = norm(n);
-            if (!(len > 0)) return;  // left empty: no rows
-            surf_rows[i] = scaled(detail::point_to_plane_rows(weights_of(surf_combo[i]), hits[i].point, n / len, 1.0),
-                                  surf_pos[i], surf_weight[i]);
+            if (!(len > 0)) return;  // no rows
+            const int slot = direct ? surf_packed->slot_of[i] : i;
+            surf_rows[slot] =
+                scaled(detail::point_to_plane_rows(direct ? std::vector<double>{} : weights_of(surf_combo[i]),
+                                                   hits[i].point, n / len, 1.0),
+                       surf_pos[i], surf_weight[i]);
+            surf_used[slot] = 1;
         });
         if (direct) {
-            // Each point's residual in normal form (PointTerm), with the Huber reweighting of
-            // `scaled` (the same residuals as the rows above), then the normal equations by face
-            // (design: normal_equations.h).
-            auto huber = [&](double s2) { return s2 <= delta2 ? 1.0 : std::sqrt(delta2 / s2); };
-            std::vector<PointTerm> data_terms(nd), surf_terms(o.surface_to_input_weight > 0 ? ns : 0);
-            std::vector<char> surf_used(surf_terms.size(), 0);
-            parallel_for(nd, ctx.threads, [&](int i) {
-                const Vec3& n = data_normal[i];
-                const Vec3& p = state.data[i].p;
-                const Vec3 r = data_pos[i] - p;
-                PointTerm& t = data_terms[data_packed->slot_of[i]];
-                if (mu < 1 && dot(n, n) > 0.5) {
-                    // A = sqrt(mu) I + (1 - sqrt(mu)) n n^T: A^T A = mu I + (1 - mu) n n^T.
-                    const double rn = dot(r, n);
-                    const double k = data_weight * huber(mu * dot(r, r) + (1 - mu) * rn * rn);
-                    t.alpha = k * mu;
-                    t.beta = k * (1 - mu);
-                    t.n = n;
-                } else {
-                    t.alpha = data_weight * huber(dot(r, r));
-                }
-                t.c = p * t.alpha + t.n * (t.beta * dot(t.n, p));
-            });
-            parallel_for(static_cast<int>(surf_terms.size()), ctx.threads, [&](int i) {
-                const Triangle& tri = ctx.mesh.triangles[hits[i].triangle];
-                const Vec3& a = ctx.mesh.points[tri[0]];
-                const Vec3 n = cross(ctx.mesh.points[tri[1]] - a, ctx.mesh.points[tri[2]] - a);
-                const double len = norm(n);
-                if (!(len > 0)) return;  // no residual
-                PointTerm& t = surf_terms[surf_packed->slot_of[i]];
-                t.n = n / len;
-                const double d = dot(t.n, hits[i].point);
-                const double rn = dot(t.n, surf_pos[i]) - d;
-                t.beta = surf_weight[i] * huber(rn * rn);
-                t.c = t.n * (t.beta * d);
-                surf_used[surf_packed->slot_of[i]] = 1;
-            });
+            // The rows of each face's points, then the normal equations (design: normal_equations.h).
             const double lap2 = lambda > 0 ? lambda / laplacian.size() : 0.0;
             const double t_rows = seconds_since(clock);
             normal->assemble(
@@ -683,38 +646,30 @@ LevelReport fit_level(const Context& ctx, const LevelTopology& topo, subdiv::Lim
                                 for (int d = 0; d < 3; ++d) jtj(3 * a + d, 3 * b + d) = lap2 * w[a] * w[b];
                         return;
                     }
-                    // A point's share of J^T J is (w w^T) kron G with G = alpha I + beta n n^T: for each
-                    // of G's 6 distinct entries (d, e), sum_p G_p(d, e) w_p w_p^T, then spread over
-                    // the 3 x 3 blocks. That is m^2 / 2 products of 6 numbers per point, against
-                    // rows x (3m)^2 / 2 for J^T J from the point's 1 or 3 rows of 3m.
-                    const int pairs = m * (m + 1) / 2;
-                    std::vector<double> acc(6 * static_cast<size_t>(pairs), 0.0);
-                    auto add = [&](const PointTerm& t, const double* w) {
-                        const double g[6] = {t.alpha + t.beta * t.n.x * t.n.x, t.beta * t.n.x * t.n.y,
-                                             t.beta * t.n.x * t.n.z,          t.alpha + t.beta * t.n.y * t.n.y,
-                                             t.beta * t.n.y * t.n.z,          t.alpha + t.beta * t.n.z * t.n.z};
-                        for (int a = 0; a < m; ++a)
-                            for (int d = 0; d < 3; ++d) jtb(3 * a + d) += w[a] * t.c[d];
-                        double* out = acc.data();
-                        for (int b = 0; b < m; ++b)
-                            for (int a = 0; a <= b; ++a, out += 6) {
-                                const double ww = w[a] * w[b];
-                                for (int q = 0; q < 6; ++q) out[q] += ww * g[q];
-                            }
+                    // The face's data points, then its surface samples, each in index order.
+                    const int d0 = data_packed->begin[k], d1 = data_packed->begin[k + 1];
+                    const int s0 = surf_rows.empty() ? 0 : surf_packed->begin[k];
+                    const int s1 = surf_rows.empty() ? 0 : surf_packed->begin[k + 1];
+                    int rows = 0;
+                    for (int q = d0; q < d1; ++q) rows += data_rows[q].rows;
+                    for (int q = s0; q < s1; ++q) rows += surf_used[q] ? surf_rows[q].rows : 0;
+                    if (rows == 0) return;
+                    Eigen::MatrixXd j(rows, 3 * m);
+                    Eigen::VectorXd b(rows);
+                    int row = 0;
+                    auto put = [&](const detail::StencilRows& r, const double* w) {
+                        for (int q = 0; q < r.rows; ++q, ++row) {
+                            for (int a = 0; a < m; ++a)
+                                for (int d = 0; d < 3; ++d) j(row, 3 * a + d) = w[a] * r.a[3 * q + d];
+                            b(row) = r.b[q];
+                        }
                     };
-                    for (int s = data_packed->begin[k]; s < data_packed->begin[k + 1]; ++s)
-                        add(data_terms[s], data_packed->weights.data() + data_packed->at[s]);
-                    if (!surf_terms.empty())
-                        for (int s = surf_packed->begin[k]; s < surf_packed->begin[k + 1]; ++s)
-                            if (surf_used[s]) add(surf_terms[s], surf_packed->weights.data() + surf_packed->at[s]);
-                    const double* in = acc.data();
-                    constexpr int kD[6] = {0, 0, 0, 1, 1, 2}, kE[6] = {0, 1, 2, 1, 2, 2};
-                    for (int b = 0; b < m; ++b)
-                        for (int a = 0; a <= b; ++a, in += 6)
-                            for (int q = 0; q < 6; ++q) {
-                                jtj(3 * a + kD[q], 3 * b + kE[q]) = in[q];
-                                if (a < b) jtj(3 * a + kE[q], 3 * b + kD[q]) = in[q];
-                            }
+                    for (int q = d0; q < d1; ++q)
+                        put(data_rows[q], data_packed->weights.data() + data_packed->at[q]);
+                    for (int q = s0; q < s1; ++q)
+                        if (surf_used[q]) put(surf_rows[q], surf_packed->weights.data() + surf_packed->at[q]);
+                    jtj.selfadjointView<Eigen::Upper>().rankUpdate(j.transpose());
+                    jtb.noalias() = j.transpose() * b;
                 },
                 ctx.threads);
             // Ceres' Levenberg-Marquardt starts with the damping diag(J^T J) / 1e4; the same here,
@@ -764,7 +719,7 @@ LevelReport fit_level(const Context& ctx, const LevelTopology& topo, subdiv::Lim
             };
             for (int i = 0; i < nd; ++i) add(state.data[i].c.face, data_combo[i], std::move(data_rows[i]));
             for (int i = 0; i < static_cast<int>(surf_rows.size()); ++i)
-                if (!surf_rows[i].weights.empty()) add(s_params[i].face, surf_combo[i], std::move(surf_rows[i]));
+                if (surf_used[i]) add(s_params[i].face, surf_combo[i], std::move(surf_rows[i]));
             // A group with more rows than unknowns (a coarse level's faces hold many points) goes in
             // as its Cholesky-compressed equivalent: the same steps, fewer rows for Ceres to multiply.
             std::vector<std::unique_ptr<ceres::CostFunction>> compressed(groups.size());
