@@ -61,6 +61,7 @@ int run_bench(const BenchCommandOptions& o) {
     b.blender = o.blender;
     b.executable = bench::self_executable();
     b.peer_script = o.peer_script.empty() ? default_peer_script(b.executable) : o.peer_script;
+    b.layout_flags = embedding_arguments(o.embedding);
     if (b.executable.empty()) throw InternalError("cannot find the quadcage executable (/proc/self/exe)");
     if (const std::string e = b.validate(); !e.empty()) throw InvalidInput("bench: " + e);
     b.progress = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };

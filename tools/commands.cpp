@@ -1,13 +1,13 @@
 #include "commands.h"
 
-#include "cad_stage.h"
-
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <functional>
 #include <iostream>
 
+#include "cad_stage.h"
 #include "quadcage/accel/closest_point.h"
 #include "quadcage/cad/cad_export.h"
 #include "quadcage/core/errors.h"
@@ -169,7 +169,30 @@ void apply(const EmbeddingFlags& flags, layout::QuadLayoutOptions* options) {
     options->embedding_cone_sweeps = flags.cone_sweeps;
 }
 
+// The shortest of %.15g and %.17g that reads back as x.
+std::string exact_number(double x) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.15g", x);
+    if (std::strtod(text, nullptr) != x) std::snprintf(text, sizeof text, "%.17g", x);
+    return text;
+}
+
 }  // namespace
+
+std::vector<std::string> embedding_arguments(const EmbeddingFlags& flags) {
+    const EmbeddingFlags defaults;
+    std::vector<std::string> args;
+    if (flags.iterations != defaults.iterations)
+        args.insert(args.end(), {"--embedding-iterations", std::to_string(flags.iterations)});
+    if (flags.extract) args.push_back("--embedding-extract");
+    if (flags.area_weight != defaults.area_weight)
+        args.insert(args.end(), {"--embedding-area-weight", exact_number(flags.area_weight)});
+    if (flags.conformal_weight != defaults.conformal_weight)
+        args.insert(args.end(), {"--embedding-conformal-weight", exact_number(flags.conformal_weight)});
+    if (flags.cone_sweeps != defaults.cone_sweeps)
+        args.insert(args.end(), {"--embedding-cone-sweeps", std::to_string(flags.cone_sweeps)});
+    return args;
+}
 
 int run_layout(const LayoutOptions& o) {
     Progress progress(o.quiet);

@@ -34,6 +34,9 @@ struct EmbeddingFlags {
     int cone_sweeps = 0;
 };
 
+/// The flags as `layout`/`fit` arguments: only those that differ from the defaults.
+std::vector<std::string> embedding_arguments(const EmbeddingFlags& flags);
+
 struct LayoutOptions {
     std::string mesh;
     std::string output_dir;
@@ -111,6 +114,7 @@ struct BenchCommandOptions {
     bool no_pictures = false;
     std::string blender = "blender";
     std::string peer_script;         ///< Empty: the repository's tools/bench/quadriflow.py.
+    EmbeddingFlags embedding;        ///< Passed to our layout and fits (bench::BenchOptions::layout_flags).
 };
 int run_bench(const BenchCommandOptions& options);
 

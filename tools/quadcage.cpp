@@ -244,6 +244,7 @@ int main(int argc, char** argv) {
         ->check(CLI::PositiveNumber);
     bench_cmd->add_flag("--no-peer", bench.no_peer, "Do not run QuadriFlow");
     bench_cmd->add_flag("--no-pictures", bench.no_pictures, "Do not draw the layout and deviation pictures");
+    add_embedding_flags(bench_cmd, bench.embedding);  // passed to our layout and fits, not to the peer's
     bench_cmd->add_option("--blender", bench.blender, "Blender executable (default: blender on PATH)");
     bench_cmd->add_option("--peer-script", bench.peer_script, "QuadriFlow script (default: PREFIX/share/quadcage/quadriflow.py beside an installed quadcage, else the\nrepository's tools/bench/quadriflow.py)");
 

@@ -277,7 +277,9 @@ private:
     bool run_layout() {
         auto v = vars();
         v["dir"] = dir_.string();
-        const ChildResult r = stage("layout", substitute(o_.commands.layout, v));
+        std::vector<std::string> argv = substitute(o_.commands.layout, v);
+        argv.insert(argv.end(), o_.layout_flags.begin(), o_.layout_flags.end());
+        const ChildResult r = stage("layout", argv);
         m_.peak_memory_mib = r.peak_memory_mib;
         std::string reason;
         const std::string status = outcome(r, o_.timeout_seconds, &reason);
@@ -339,6 +341,7 @@ private:
             v["dir"] = ldir.string();
             v["level"] = std::to_string(level);
             std::vector<std::string> argv = substitute(o_.commands.fit, v);
+            argv.insert(argv.end(), o_.layout_flags.begin(), o_.layout_flags.end());
             if (o_.tolerance > 0) argv.insert(argv.end(), {"--tolerance", fmt_g(o_.tolerance)});
             const ChildResult r = stage("fit level " + std::to_string(level), argv);
             l.peak_memory_mib = r.peak_memory_mib;
@@ -619,6 +622,7 @@ BenchResult run_bench(const std::vector<BenchInput>& inputs, const BenchOptions&
         throw InvalidInput(o.output_dir + ": cannot create the output folder (" + ec.message() + ")");
     BenchResult result;
     result.levels = o.levels;
+    result.layout_flags = o.layout_flags;
     result.meshes.resize(inputs.size());
     const Clock::time_point start = Clock::now();
     std::mutex progress_mutex;

@@ -293,6 +293,7 @@ std::string bench_json(const BenchResult& r) {
                       {"hausdorff", {{"worst", opt(s.hausdorff_ratio_worst)}, {"median", opt(s.hausdorff_ratio_median)}}}}},
                     {"line", summary_line(r)}};
     j["levels"] = r.levels;
+    j["layout_flags"] = r.layout_flags;
     j["plot"] = opt(r.plot_png);
     json meshes = json::array();
     for (const MeshResult& m : r.meshes) {
@@ -379,6 +380,12 @@ std::string bench_markdown(const BenchResult& r) {
     md += "Levels: " + (levels.empty() ? std::string("none") : levels) +
           ". Relative RMS and Hausdorff distances are over the bounding-box diagonal; peak memory is the largest "
           "resident set of the mesh's layout and fit processes; seconds as the stages report them.\n\n";
+    if (!r.layout_flags.empty()) {
+        std::string flags;
+        for (const std::string& f : r.layout_flags) flags += (flags.empty() ? "" : " ") + f;
+        md += "Our layouts were made with `" + flags +
+              "` (on the layout and on every fit of ours, not on the peer's).\n\n";
+    }
     if (!r.plot_png.empty()) md += "![relative RMS against control points, log-log](" + r.plot_png + ")\n\n";
     else md += "(No plot: no fit reported control points and an RMS.)\n\n";
 

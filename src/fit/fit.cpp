@@ -8,12 +8,12 @@
 #include <cstdio>
 #include <limits>
 #include <map>
-#include <optional>
 #include <memory>
+#include <optional>
 #include <random>
 #include <set>
 
-#include "detail/blas_threads.h"
+#include "common/blas_threads.h"
 #include "detail/control_mesh.h"
 #include "detail/costs.h"
 #include "detail/measure.h"
@@ -761,7 +761,7 @@ LevelReport fit_level(const Context& ctx, const LevelTopology& topo, subdiv::Lim
             ceres::Solver::Summary summary;
             const double setup = seconds_since(clock);
             {
-                const detail::ScopedBlasThreads blas;  // CHOLMOD's dense kernels (blas_threads.h)
+                const quadcage::detail::ScopedBlasThreads blas;  // CHOLMOD's dense kernels (blas_threads.h)
                 ceres::Solve(so, &problem, &summary);
             }
             ctx.progress(format("  ceres: set-up %.2f s, preprocess %.2f s, jacobians %.2f s", setup,

@@ -360,6 +360,44 @@ TEST_F(BenchRunner, ToleranceIsPassedToFit) {
     EXPECT_EQ(r.meshes[0].levels[0].status, "failed: no readable report.json");
 }
 
+TEST_F(BenchRunner, LayoutFlagsReachTheLayoutAndOurFitsButNotThePeersFit) {
+    // Each template logs its argv through a shell, then runs the fake child with it ($0).
+    const std::string log_then_run = "echo %s: \"$@\" >&2; exec \"$0\" \"$@\"";
+    auto logged = [&](const char* tag, std::vector<std::string> argv) {
+        char script[128];
+        std::snprintf(script, sizeof script, log_then_run.c_str(), tag);
+        argv.insert(argv.begin(), {"/bin/sh", "-c", script});
+        return argv;
+    };
+    BenchOptions o = options();
+    o.pictures = false;
+    o.levels = {0};
+    o.layout_flags = {"--embedding-iterations", "30", "--embedding-extract"};
+    o.commands.layout = logged("layout-args", {"{exe}", "layout", "{mesh}", "-o", "{dir}"});
+    o.commands.fit = logged("fit-args", {"{exe}", "fit", "{mesh}", "-o", "{dir}", "--level", "{level}"});
+    o.commands.peer_fit = logged(
+        "peer-fit-args", {"{exe}", "fit", "{mesh}", "--cage", "{cage}", "--level", "0", "-o", "{dir}"});
+    const BenchResult r = run_bench({mesh("good")}, o);
+    ASSERT_EQ(r.meshes[0].status, "ok");
+    const std::string log = slurp(dir_ / "out" / "meshes" / "good" / "log.txt");
+    const auto line = [&](const std::string& tag) {
+        const size_t at = log.find(tag + ":");
+        return at == std::string::npos ? std::string() : log.substr(at, log.find('\n', at) - at);
+    };
+    EXPECT_NE(line("layout-args").find("--embedding-iterations 30 --embedding-extract"), std::string::npos)
+        << log;
+    EXPECT_NE(line("fit-args").find("--level 0 --embedding-iterations 30 --embedding-extract"),
+              std::string::npos)
+        << log;
+    ASSERT_NE(line("peer-fit-args"), "") << log;
+    EXPECT_EQ(line("peer-fit-args").find("--embedding"), std::string::npos) << log;
+    write_bench_tables(o.output_dir, r);
+    const auto j = nlohmann::json::parse(slurp(dir_ / "out" / "bench.json"));
+    EXPECT_EQ(j["layout_flags"], nlohmann::json({"--embedding-iterations", "30", "--embedding-extract"}));
+    EXPECT_NE(slurp(dir_ / "out" / "bench.md").find("`--embedding-iterations 30 --embedding-extract`"),
+              std::string::npos);
+}
+
 TEST_F(BenchRunner, AMissingStageCommandIsAFailureNotAnAbort) {
     BenchOptions o = options();
     o.pictures = false;

@@ -153,6 +153,26 @@ TEST(CliFitEmbedding, TheFlagsReachTheLayoutAndExcludeCage) {
     fs::remove_all(dir);
 }
 
+TEST(CliFitEmbedding, BenchPassesTheFlagsToOurLayouts) {
+    // `bench` turns its embedding flags back into arguments (only those set) for its layout and
+    // fit children, and records them in bench.json.
+    const fs::path dir = scratch_dir("quadcage_bench_embedding_");
+    const CliRun r = quadcage_cli("bench " + shell_quoted(eight()) +
+                                      " --levels none --no-peer --no-pictures --embedding-iterations 10 "
+                                      "--embedding-extract --embedding-area-weight 0.5 -o " +
+                                      shell_quoted(dir / "out"),
+                                  dir);
+    ASSERT_EQ(r.code, 0) << r.log;
+    const nlohmann::json bench = nlohmann::json::parse(slurp(dir / "out" / "bench.json"));
+    EXPECT_EQ(bench["layout_flags"], nlohmann::json({"--embedding-iterations", "10", "--embedding-extract",
+                                                     "--embedding-area-weight", "0.5"}));
+    ASSERT_EQ(bench["meshes"].size(), 1u);
+    EXPECT_EQ(bench["meshes"][0]["status"], "ok") << bench["meshes"][0].dump();
+    const std::string log = slurp(dir / "out" / "meshes" / "eight" / "log.txt");
+    EXPECT_NE(log.find("embedding: keeping the extracted layout"), std::string::npos) << log;
+    fs::remove_all(dir);
+}
+
 TEST(CliFitCage, NanInTheCageExitsThree) {
     const fs::path dir = scratch_dir("quadcage_fit_cage_nan_");
     PolygonMesh qf = read_polygon_mesh(eight_quadriflow().string());

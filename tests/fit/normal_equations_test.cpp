@@ -4,16 +4,15 @@
 #include "detail/normal_equations.h"
 
 #include <dlfcn.h>
-
-#include <Eigen/Dense>
 #include <gtest/gtest.h>
 
+#include <Eigen/Dense>
 #include <algorithm>
 #include <random>
 #include <string>
 #include <vector>
 
-#include "detail/blas_threads.h"
+#include "common/blas_threads.h"
 #include "quadcage/core/io.h"
 #include "quadcage/fit/fit.h"
 
@@ -159,13 +158,13 @@ TEST(ScopedBlasThreads, SetsTheCountAndRestoresIt) {
     if (!set || !get) GTEST_SKIP() << "the BLAS of this process is not OpenBLAS: there is no thread count to pin";
     set(3);
     {
-        const ScopedBlasThreads blas(1);
+        const quadcage::detail::ScopedBlasThreads blas(1);
         EXPECT_EQ(get(), 1);
     }
     EXPECT_EQ(get(), 3);
     set(1);
     {
-        const ScopedBlasThreads blas(2);
+        const quadcage::detail::ScopedBlasThreads blas(2);
         EXPECT_EQ(get(), 2);
     }
     EXPECT_EQ(get(), 1);

@@ -6,8 +6,10 @@
 # ours and peer, control points, relative RMS and Hausdorff, the ratios ours / peer (they count only
 # when the control-point counts are within 10%), the worst and median ratio, and the QuadriFlow
 # attempts that were not used as they were.
-#   tools/bench/peer_compare.sh [--check] [-o DIR | --from DIR] [BUILD_DIR] [MESH...]
+#   tools/bench/peer_compare.sh [--check] [--embedding] [-o DIR | --from DIR] [BUILD_DIR] [MESH...]
 #     --check     also run ../shared/tools/check_fit.py on both limit.ply files (slow on big meshes)
+#     --embedding our layouts with the embedding stage: `bench --embedding-iterations 30
+#                 --embedding-extract` (issue #20; the peer's fit is unchanged)
 #     -o DIR      keep the bench folders in DIR (default: a new temporary folder, kept and printed)
 #     --from DIR  run nothing: print the table from an earlier run's DIR (e.g. to add --check)
 #     MESH...     default: the nine shared meshes of genus >= 1
@@ -16,12 +18,14 @@ cd "$(dirname "$0")/../.."
 check=0
 out=
 reuse=0
+flags=()
 while [ $# -gt 0 ]; do
   case "$1" in
     --check) check=1; shift ;;
+    --embedding) flags=(--embedding-iterations 30 --embedding-extract); shift ;;
     -o) out=$2; shift 2 ;;
     --from) out=$2; reuse=1; shift 2 ;;
-    -h|--help) sed -n '2,14p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,15p' "$0"; exit 0 ;;
     *) break ;;
   esac
 done
@@ -54,11 +58,11 @@ if [ $reuse = 1 ]; then
   for k in 3 4; do [ -f "$out/level$k/bench.json" ] && runs+=("$out/level$k/bench.json"); done
 else
   if [ ${#level3[@]} -gt 0 ]; then
-    "$qc" bench "${level3[@]}" -o "$out/level3" --levels 3 --no-pictures >&2
+    "$qc" bench "${level3[@]}" -o "$out/level3" --levels 3 --no-pictures "${flags[@]}" >&2
     runs+=("$out/level3/bench.json")
   fi
   if [ ${#level4[@]} -gt 0 ]; then
-    "$qc" bench "${level4[@]}" -o "$out/level4" --levels 4 --no-pictures >&2
+    "$qc" bench "${level4[@]}" -o "$out/level4" --levels 4 --no-pictures "${flags[@]}" >&2
     runs+=("$out/level4/bench.json")
   fi
   wall=$((SECONDS - start))

@@ -44,6 +44,9 @@ struct BenchOptions {
     std::string blender = "blender"; ///< {blender}: path or name on PATH; not found -> peer "not installed".
     std::string peer_script;         ///< {script}: tools/bench/quadriflow.py; required when the peer runs.
     StageCommands commands;          ///< Stage command lines (tests substitute fake children).
+    /// Appended to the layout command and to every fit of our layout, not to the peer's fit: e.g.
+    /// `--embedding-iterations 30 --embedding-extract`, to compare the embedding stage with the peer.
+    std::vector<std::string> layout_flags;
     /// Progress lines ("bench [i/n] name: stage (t s)"); called from worker threads, one call at a time.
     std::function<void(const std::string&)> progress;
     std::string validate() const;    ///< Empty if valid, else what is wrong.

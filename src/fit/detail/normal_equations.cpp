@@ -2,11 +2,10 @@
 
 #include <Eigen/CholmodSupport>
 #include <Eigen/SparseCore>
-
 #include <algorithm>
 #include <string>
 
-#include "detail/blas_threads.h"
+#include "common/blas_threads.h"
 #include "quadcage/core/errors.h"
 #include "quadcage/core/parallel.h"
 
@@ -127,7 +126,7 @@ bool NormalEquations::solve(const std::vector<double>& x, double damping, std::v
         diag[i] = values[diagonal_[i]];
         values[diagonal_[i]] += damping * diag[i];
     }
-    const ScopedBlasThreads blas;
+    const quadcage::detail::ScopedBlasThreads blas;
     if (!f.analysed) {
         f.llt.analyzePattern(f.h);
         f.analysed = true;

@@ -1,8 +1,8 @@
-#include "detail/blas_threads.h"
+#include "common/blas_threads.h"
 
 #include <dlfcn.h>
 
-namespace quadcage::fit::detail {
+namespace quadcage::detail {
 
 namespace {
 
@@ -28,12 +28,14 @@ ScopedBlasThreads::ScopedBlasThreads(int threads) {
     const GetThreads get = get_threads();
     if (!set || !get) return;
     previous_ = get();
-    if (previous_ != threads) set(threads);
-    else previous_ = 0;
+    if (previous_ != threads)
+        set(threads);
+    else
+        previous_ = 0;
 }
 
 ScopedBlasThreads::~ScopedBlasThreads() {
     if (previous_ > 0) set_threads()(previous_);
 }
 
-}  // namespace quadcage::fit::detail
+}  // namespace quadcage::detail

@@ -1,5 +1,6 @@
 #pragma once
-// The BLAS thread count during the fit's factorisations (private to src/fit).
+// The BLAS thread count during the sparse factorisations of the fit and the layout embedding
+// (private to the source tree).
 //
 // CHOLMOD's supernodal factorisation runs its dense updates through BLAS and LAPACK. OpenBLAS, which
 // Debian's libblas.so.3 usually resolves to, picks one thread per core by default, and its one-thread
@@ -12,9 +13,9 @@
 // time the result was the same with the process started on one CPU (taskset), with
 // OPENBLAS_NUM_THREADS=1 and with 8.
 
-namespace quadcage::fit::detail {
+namespace quadcage::detail {
 
-/// BLAS threads of the fit's factorisations.
+/// BLAS threads of the factorisations.
 inline constexpr int kBlasThreads = 2;
 
 /// Sets OpenBLAS's thread count to `threads` for the object's lifetime and restores it after. Does
@@ -32,4 +33,4 @@ private:
     int previous_ = 0;  ///< 0: nothing to restore.
 };
 
-}  // namespace quadcage::fit::detail
+}  // namespace quadcage::detail
