@@ -309,9 +309,9 @@ std::vector<subdiv::FacePoint> surface_samples(int faces, int per_face) {
 /// in their index order (the normal equations read them face by face; scattered, reading them
 /// took most of the assembly). Slot s (of point slot_of[i]) holds size[face] weights from at[s].
 struct FaceOrderedWeights {
-    std::vector<int> begin;      ///< Per face, its first slot; begin[nf] = number of points.
-    std::vector<int> slot_of;    ///< Per point, its slot.
-    std::vector<size_t> at;      ///< Per slot, where its weights start.
+    std::vector<int> begin;    ///< Per face, its first slot; begin[nf] = number of points.
+    std::vector<int> slot_of;  ///< Per point, its slot.
+    std::vector<size_t> at;    ///< Per slot, where its weights start.
     std::vector<double> weights;
 
     FaceOrderedWeights(const std::vector<int>& face_of, const std::vector<int>& face_size) {
@@ -432,7 +432,7 @@ std::string format(const char* fmt, double a, double b = 0, double c = 0) {
 void check_clique(const detail::NormalEquations& normal, int face, const Combo& c) {
     const std::vector<int>& vars = normal.clique(face);
     QC_CHECK(vars.size() == c.size() && std::equal(vars.begin(), vars.end(), c.begin(),
-                                                    [](int v, const auto& vw) { return v == vw.first; }),
+                                                   [](int v, const auto& vw) { return v == vw.first; }),
              "fit: a stencil on face " + std::to_string(face) + " uses other control points than the face");
 }
 
