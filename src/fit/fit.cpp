@@ -305,6 +305,32 @@ std::vector<subdiv::FacePoint> surface_samples(int faces, int per_face) {
     return out;
 }
 
+/// Stencil weights of points grouped by control face, each face's points together in memory and
+/// in their index order (the normal equations read them face by face; scattered, reading them
+/// took most of the assembly). Slot s (of point slot_of[i]) holds size[face] weights from at[s].
+struct FaceOrderedWeights {
+    std::vector<int> begin;    ///< Per face, its first slot; begin[nf] = number of points.
+    std::vector<int> slot_of;  ///< Per point, its slot.
+    std::vector<size_t> at;    ///< Per slot, where its weights start.
+    std::vector<double> weights;
+
+    FaceOrderedWeights(const std::vector<int>& face_of, const std::vector<int>& face_size) {
+        const int nf = static_cast<int>(face_size.size()), n = static_cast<int>(face_of.size());
+        begin.assign(nf + 1, 0);
+        for (int f : face_of) ++begin[f + 1];
+        for (int f = 0; f < nf; ++f) begin[f + 1] += begin[f];
+        std::vector<int> next(begin.begin(), begin.end() - 1);
+        slot_of.resize(n);
+        for (int i = 0; i < n; ++i) slot_of[i] = next[face_of[i]]++;
+        at.resize(n);
+        size_t total = 0;
+        for (int f = 0; f < nf; ++f)
+            for (int s = begin[f]; s < begin[f + 1]; ++s) at[s] = total, total += face_size[f];
+        weights.resize(total);
+    }
+    double* of_point(int i) { return weights.data() + at[slot_of[i]]; }
+};
+
 struct LevelState {
     std::vector<Vec3> vars;
     std::vector<DataPoint> data;
@@ -402,6 +428,14 @@ std::string format(const char* fmt, double a, double b = 0, double c = 0) {
     return buf;
 }
 
+/// Checks that a stencil on `face` uses the face's control points, in their (sorted) order.
+void check_clique(const detail::NormalEquations& normal, int face, const Combo& c) {
+    const std::vector<int>& vars = normal.clique(face);
+    QC_CHECK(vars.size() == c.size() && std::equal(vars.begin(), vars.end(), c.begin(),
+                                                   [](int v, const auto& vw) { return v == vw.first; }),
+             "fit: a stencil on face " + std::to_string(face) + " uses other control points than the face");
+}
+
 /// Runs the rounds of one level from `state` (variables and correspondences on topo.mesh_level
 /// faces); leaves the best variables and their correspondences in `state`.
 LevelReport fit_level(const Context& ctx, const LevelTopology& topo, subdiv::LimitSurface& surface, LevelState& state) {
@@ -451,6 +485,19 @@ LevelReport fit_level(const Context& ctx, const LevelTopology& topo, subdiv::Lim
             for (const auto& vw : laplacian[k]) cliques[nf + k].push_back(vw.first);
         normal.emplace(topo.num_vars, std::move(cliques));
     }
+    std::vector<int> clique_size(nf), sample_face(ns);
+    if (normal)
+        for (int f = 0; f < nf; ++f) clique_size[f] = static_cast<int>(normal->clique(f).size());
+    for (int i = 0; i < ns; ++i) sample_face[i] = s_params[i].face;
+    std::optional<FaceOrderedWeights> surf_packed;
+    if (normal) {
+        surf_packed.emplace(sample_face, clique_size);
+        parallel_for(ns, ctx.threads, [&](int i) {
+            check_clique(*normal, s_params[i].face, surf_combo[i]);
+            double* w = surf_packed->of_point(i);
+            for (const auto& vw : surf_combo[i]) *w++ = vw.second;
+        });
+    }
     // Once the data RMS stalls, one last round with the final (smallest) smoothness weight, so an
     // early stop does not leave the surface biased by a large smoothness term.
     bool final_round = false;
@@ -468,12 +515,26 @@ LevelReport fit_level(const Context& ctx, const LevelTopology& topo, subdiv::Lim
         const double near2 = std::pow(kNearDistance * ctx.diagonal, 2);
         // Stencils of the data correspondences and of the surface samples.
         clock = Clock::now();
-        std::vector<Combo> data_combo(nd);
+        const bool direct = o.solver == FitSolver::Direct;
+        std::vector<Combo> data_combo(direct ? 0 : nd);
+        std::optional<FaceOrderedWeights> data_packed;
+        if (direct) {
+            std::vector<int> data_face(nd);
+            for (int i = 0; i < nd; ++i) data_face[i] = state.data[i].c.face;
+            data_packed.emplace(data_face, clique_size);
+        }
         std::vector<Vec3> surf_pos(ns), data_pos(nd), data_normal(nd);
         std::vector<double> surf_weight(ns);
         parallel_for(nd, ctx.threads, [&](int i) {
             const subdiv::LimitStencil s = surface.stencil(state.data[i].c);
-            data_combo[i] = topo.compose(s.indices, s.position_weights);
+            Combo c = topo.compose(s.indices, s.position_weights);
+            if (direct) {
+                check_clique(*normal, state.data[i].c.face, c);
+                double* w = data_packed->of_point(i);
+                for (const auto& vw : c) *w++ = vw.second;
+            } else {
+                data_combo[i] = std::move(c);
+            }
             const subdiv::LimitPoint e = limit_point(surface, s);
             data_pos[i] = e.position;
             // Squared-distance minimisation approximates the distance well only near the surface
@@ -540,37 +601,34 @@ LevelReport fit_level(const Context& ctx, const LevelTopology& topo, subdiv::Lim
             for (const auto& vw : c) out.push_back(vw.second);
             return out;
         };
+        // The direct path keeps the rows by face (slots of data_packed and surf_packed) and reads
+        // their weights from there; Ceres' cost functions own theirs.
         std::vector<detail::StencilRows> data_rows(nd), surf_rows(o.surface_to_input_weight > 0 ? ns : 0);
+        std::vector<char> surf_used(surf_rows.size(), 0);
         parallel_for(nd, ctx.threads, [&](int i) {
             const Vec3& n = data_normal[i];
-            std::vector<double> wi = weights_of(data_combo[i]);
-            data_rows[i] = scaled(mu < 1 && dot(n, n) > 0.5
-                                      ? detail::tangent_weighted_rows(std::move(wi), state.data[i].p, n, mu, 1.0)
-                                      : detail::point_to_point_rows(std::move(wi), state.data[i].p, 1.0),
-                                  data_pos[i], data_weight);
+            std::vector<double> wi = direct ? std::vector<double>{} : weights_of(data_combo[i]);
+            data_rows[direct ? data_packed->slot_of[i] : i] =
+                scaled(mu < 1 && dot(n, n) > 0.5
+                           ? detail::tangent_weighted_rows(std::move(wi), state.data[i].p, n, mu, 1.0)
+                           : detail::point_to_point_rows(std::move(wi), state.data[i].p, 1.0),
+                       data_pos[i], data_weight);
         });
         parallel_for(static_cast<int>(surf_rows.size()), ctx.threads, [&](int i) {
             const Triangle& tri = ctx.mesh.triangles[hits[i].triangle];
             const Vec3& a = ctx.mesh.points[tri[0]];
             const Vec3 n = cross(ctx.mesh.points[tri[1]] - a, ctx.mesh.points[tri[2]] - a);
             const double len = norm(n);
-            if (!(len > 0)) return;  // left empty: no rows
-            surf_rows[i] = scaled(detail::point_to_plane_rows(weights_of(surf_combo[i]), hits[i].point, n / len, 1.0),
-                                  surf_pos[i], surf_weight[i]);
+            if (!(len > 0)) return;  // no rows
+            const int slot = direct ? surf_packed->slot_of[i] : i;
+            surf_rows[slot] =
+                scaled(detail::point_to_plane_rows(direct ? std::vector<double>{} : weights_of(surf_combo[i]),
+                                                   hits[i].point, n / len, 1.0),
+                       surf_pos[i], surf_weight[i]);
+            surf_used[slot] = 1;
         });
-        if (o.solver == FitSolver::Direct) {
+        if (direct) {
             // The rows of each face's points, then the normal equations (design: normal_equations.h).
-            std::vector<std::vector<const detail::StencilRows*>> members(nf);
-            auto add_member = [&](int face, const Combo& c, const detail::StencilRows& rows) {
-                const std::vector<int>& vars = normal->clique(face);
-                QC_CHECK(vars.size() == c.size() && std::equal(vars.begin(), vars.end(), c.begin(),
-                                                                [](int v, const auto& vw) { return v == vw.first; }),
-                         "fit: a stencil on face " + std::to_string(face) + " uses other control points than the face");
-                members[face].push_back(&rows);
-            };
-            for (int i = 0; i < nd; ++i) add_member(state.data[i].c.face, data_combo[i], data_rows[i]);
-            for (int i = 0; i < static_cast<int>(surf_rows.size()); ++i)
-                if (!surf_rows[i].weights.empty()) add_member(s_params[i].face, surf_combo[i], surf_rows[i]);
             const double lap2 = lambda > 0 ? lambda / laplacian.size() : 0.0;
             const double t_rows = seconds_since(clock);
             normal->assemble(
@@ -588,18 +646,28 @@ LevelReport fit_level(const Context& ctx, const LevelTopology& topo, subdiv::Lim
                                 for (int d = 0; d < 3; ++d) jtj(3 * a + d, 3 * b + d) = lap2 * w[a] * w[b];
                         return;
                     }
+                    // The face's data points, then its surface samples, each in index order.
+                    const int d0 = data_packed->begin[k], d1 = data_packed->begin[k + 1];
+                    const int s0 = surf_rows.empty() ? 0 : surf_packed->begin[k];
+                    const int s1 = surf_rows.empty() ? 0 : surf_packed->begin[k + 1];
                     int rows = 0;
-                    for (const detail::StencilRows* r : members[k]) rows += r->rows;
+                    for (int q = d0; q < d1; ++q) rows += data_rows[q].rows;
+                    for (int q = s0; q < s1; ++q) rows += surf_used[q] ? surf_rows[q].rows : 0;
                     if (rows == 0) return;
                     Eigen::MatrixXd j(rows, 3 * m);
                     Eigen::VectorXd b(rows);
                     int row = 0;
-                    for (const detail::StencilRows* r : members[k])
-                        for (int q = 0; q < r->rows; ++q, ++row) {
+                    auto put = [&](const detail::StencilRows& r, const double* w) {
+                        for (int q = 0; q < r.rows; ++q, ++row) {
                             for (int a = 0; a < m; ++a)
-                                for (int d = 0; d < 3; ++d) j(row, 3 * a + d) = r->weights[a] * r->a[3 * q + d];
-                            b(row) = r->b[q];
+                                for (int d = 0; d < 3; ++d) j(row, 3 * a + d) = w[a] * r.a[3 * q + d];
+                            b(row) = r.b[q];
                         }
+                    };
+                    for (int q = d0; q < d1; ++q)
+                        put(data_rows[q], data_packed->weights.data() + data_packed->at[q]);
+                    for (int q = s0; q < s1; ++q)
+                        if (surf_used[q]) put(surf_rows[q], surf_packed->weights.data() + surf_packed->at[q]);
                     jtj.selfadjointView<Eigen::Upper>().rankUpdate(j.transpose());
                     jtb.noalias() = j.transpose() * b;
                 },
@@ -651,7 +719,7 @@ LevelReport fit_level(const Context& ctx, const LevelTopology& topo, subdiv::Lim
             };
             for (int i = 0; i < nd; ++i) add(state.data[i].c.face, data_combo[i], std::move(data_rows[i]));
             for (int i = 0; i < static_cast<int>(surf_rows.size()); ++i)
-                if (!surf_rows[i].weights.empty()) add(s_params[i].face, surf_combo[i], std::move(surf_rows[i]));
+                if (surf_used[i]) add(s_params[i].face, surf_combo[i], std::move(surf_rows[i]));
             // A group with more rows than unknowns (a coarse level's faces hold many points) goes in
             // as its Cholesky-compressed equivalent: the same steps, fewer rows for Ceres to multiply.
             std::vector<std::unique_ptr<ceres::CostFunction>> compressed(groups.size());

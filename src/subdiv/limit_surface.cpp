@@ -54,6 +54,9 @@ struct LimitSurface::Impl {
     std::unique_ptr<Factory> factory;
     std::vector<Surface> surfaces;
     std::vector<std::vector<int>> cv;              ///< Per face: Bfr's control-point indices (may repeat).
+    /// Per face: the positions of cv in increasing control-point order (stencil() merges repeated
+    /// points in this order; sorted once here rather than at every stencil).
+    std::vector<std::vector<int>> cv_order;
     std::vector<std::vector<double>> patch_points; ///< Per face: xyz of its patch points.
     /// Per face and side: the neighbouring face and its side on the same edge, or {-1, -1}.
     std::vector<std::array<std::array<int, 2>, 4>> neighbour;
@@ -96,12 +99,18 @@ LimitSurface::LimitSurface(const QuadMesh& mesh, const LimitSurfaceOptions& opti
     m.surfaces.resize(nf);
     m.cv.resize(nf);
     m.patch_points.resize(nf);
+    m.cv_order.resize(nf);
     std::vector<char> ok(nf, 0);
     parallel_for(nf, options.threads, [&](int f) {
         ok[f] = m.factory->InitVertexSurface(f, &m.surfaces[f]) && m.surfaces[f].IsValid();
         if (!ok[f]) return;
         m.cv[f].resize(m.surfaces[f].GetNumControlPoints());
         m.surfaces[f].GetControlPointIndices(m.cv[f].data());
+        const std::vector<int>& cv = m.cv[f];
+        std::vector<int>& order = m.cv_order[f];
+        order.resize(cv.size());
+        for (size_t i = 0; i < cv.size(); ++i) order[i] = static_cast<int>(i);
+        std::sort(order.begin(), order.end(), [&](int a, int b) { return cv[a] < cv[b]; });
     });
     for (int f = 0; f < nf; ++f)
         if (!ok[f]) throw InvalidInput("LimitSurface: face " + std::to_string(f) + " has no limit surface");
@@ -169,12 +178,12 @@ LimitStencil LimitSurface::stencil(const FacePoint& p) const {
     std::vector<double> w(3 * n);
     s.EvaluateStencil(uv, w.data(), w.data() + n, w.data() + 2 * n);
     // Merge repeated control points (possible on coarse meshes; Ceres rejects repeated blocks).
-    std::vector<int> order(n);
-    for (size_t i = 0; i < n; ++i) order[i] = static_cast<int>(i);
-    std::sort(order.begin(), order.end(), [&](int a, int b) { return cv[a] < cv[b]; });
     LimitStencil out;
     out.indices.reserve(n);
-    for (int i : order) {
+    out.position_weights.reserve(n);
+    out.du_weights.reserve(n);
+    out.dv_weights.reserve(n);
+    for (int i : impl_->cv_order[p.face]) {
         if (out.indices.empty() || out.indices.back() != cv[i]) {
             out.indices.push_back(cv[i]);
             out.position_weights.push_back(0);

@@ -2,6 +2,7 @@
 // A minimal deterministic parallel loop on std::thread, shared by the numerical modules.
 
 #include <algorithm>
+#include <atomic>
 #include <exception>
 #include <mutex>
 #include <thread>
@@ -15,10 +16,11 @@ inline int resolve_threads(int requested) {
     return std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
 }
 
-/// Calls body(i) for every i in [0, n), on up to `threads` threads (0 = all cores), each thread
-/// taking a contiguous block of indices. Results are deterministic as long as body(i) writes only
-/// its own outputs (reduce afterwards, in index order). The first exception thrown by a body is
-/// rethrown in the caller after all threads have finished.
+/// Calls body(i) for every i in [0, n), on up to `threads` threads (0 = all cores), the threads
+/// taking contiguous chunks of indices in turn as they finish the previous ones (a thread that
+/// gets less of a shared CPU, or costlier indices, takes fewer). Results are deterministic as long
+/// as body(i) writes only its own outputs (reduce afterwards, in index order). The first exception
+/// thrown by a body is rethrown in the caller after all threads have finished.
 template <class Body>
 void parallel_for(int n, int threads, Body&& body) {
     if (n <= 0) return;
@@ -29,20 +31,25 @@ void parallel_for(int n, int threads, Body&& body) {
     }
     std::exception_ptr error;
     std::mutex error_mutex;
+    // 16 chunks per thread: small enough to even out, large enough that taking one costs nothing.
+    const long long chunk = std::max(16, n / (16 * t));
+    std::atomic<long long> next{0};
+    auto work = [&] {
+        try {
+            for (long long begin; (begin = next.fetch_add(chunk)) < n;)
+                for (int i = static_cast<int>(begin),
+                         end = static_cast<int>(std::min<long long>(n, begin + chunk));
+                     i < end; ++i)
+                    body(i);
+        } catch (...) {
+            std::lock_guard<std::mutex> lock(error_mutex);
+            if (!error) error = std::current_exception();
+        }
+    };
     std::vector<std::thread> pool;
-    pool.reserve(t);
-    for (int k = 0; k < t; ++k) {
-        const int begin = static_cast<int>(static_cast<long long>(n) * k / t);
-        const int end = static_cast<int>(static_cast<long long>(n) * (k + 1) / t);
-        pool.emplace_back([&, begin, end] {
-            try {
-                for (int i = begin; i < end; ++i) body(i);
-            } catch (...) {
-                std::lock_guard<std::mutex> lock(error_mutex);
-                if (!error) error = std::current_exception();
-            }
-        });
-    }
+    pool.reserve(t - 1);
+    for (int k = 1; k < t; ++k) pool.emplace_back(work);
+    work();  // the calling thread takes chunks too
     for (auto& th : pool) th.join();
     if (error) std::rethrow_exception(error);
 }
