@@ -371,8 +371,9 @@ QuadLayout build_variant(const Mesh& input, const Cycles& cycles, const QuadLayo
     throw InternalError(failure);
 }
 
-double total_seconds(const QuadLayout::Seconds& s) {
-    return s.cycles + s.curves + s.parameterization + s.verification;
+// A layout's seconds after the orthogonal system (which both S-cycle constructions share).
+double seconds_after_cycles(const QuadLayout::Seconds& s) {
+    return s.curves + s.parameterization + s.verification;
 }
 
 }  // namespace
@@ -417,7 +418,7 @@ QuadLayout build_quad_layout(const Mesh& input, const QuadLayoutOptions& options
                 b.corner_angle_mean_deviation_deg, better ? "Algorithm 1's" : "the handle loops'");
             say(line);
             if (better) {
-                discarded = total_seconds(out.seconds);
+                discarded = seconds_after_cycles(out.seconds);
                 out = std::move(other);
             }
         } catch (const InternalError& e) {
