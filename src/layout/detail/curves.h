@@ -31,8 +31,6 @@ std::uint64_t edge_key(int a, int b);
 /// Up to k vertices spread evenly along a curve, skipping those `skip` rejects.
 std::vector<int> spread(const Cycle& c, int k, const std::function<bool(int)>& skip);
 
-/// State of a curve construction: the surface, the curves, and which of them are obstacles now.
-/// Copyable: trying alternatives on a copy is how constructions pick the shorter of two routes.
 /// Thrown when a Builder's splits pass its vertex budget (Builder::max_vertices_): the layout being
 /// built is abandoned, not retried.
 class OverBudget : public InternalError {
@@ -40,6 +38,8 @@ public:
     using InternalError::InternalError;
 };
 
+/// State of a curve construction: the surface, the curves, and which of them are obstacles now.
+/// Copyable: trying alternatives on a copy is how constructions pick the shorter of two routes.
 class Builder {
 public:
     Builder(const Mesh& mesh, const OrthogonalSystemOptions& o);
