@@ -490,7 +490,9 @@ EmbeddingReport newton(const QuadLayout& L, const Surface& s, const EmbeddingOpt
         for (int i = 0; i < m; ++i) H.coeffRef(i, i) += 1e-9;
         Eigen::VectorXd d;
         {
-            const quadcage::detail::ScopedBlasThreads blas(1);  // see kEmbeddingBlasThreads
+            // One BLAS thread, whatever the process's count, so the map does not depend on the core
+            // count (the fit pins two; here none is left spinning while the assembly runs in parallel).
+            const quadcage::detail::ScopedBlasThreads blas(1);
             if (!analysed) solver.analyzePattern(H), analysed = true;
             solver.factorize(H);
             if (solver.info() == Eigen::Success) d = solver.solve(-grad);

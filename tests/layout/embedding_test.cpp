@@ -173,9 +173,8 @@ TEST(LayoutEmbedding, ConeRelocationLowersTheEnergyAndStillExtracts) {
 // CHOLMOD's dense kernels run on OpenBLAS, whose one-thread kernels round differently from its
 // threaded ones; the Newton solves pin its thread count (common/blas_threads.h), and the per-triangle
 // work runs in parallel but is summed in triangle order, so the map is the same bits whatever count
-// the process had. (Before the pin, with AMD ordering, skull.obj's extracted layout differed between
-// OPENBLAS_NUM_THREADS=1 and the default; with the METIS ordering it did not, with or without the
-// pin, so this test guards the property rather than proves the pin.)
+// the process had. With the pin removed this test fails (triangle 0 differs between 1 and 2
+// threads), and skull.obj's extracted layout differs between OPENBLAS_NUM_THREADS=1 and the default.
 TEST(LayoutEmbedding, TheMapIsTheSameBitsWhateverBlasThreadsTheProcessHas) {
     using SetThreads = void (*)(int);
     const auto set = reinterpret_cast<SetThreads>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
