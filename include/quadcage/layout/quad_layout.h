@@ -28,9 +28,9 @@ struct QuadLayoutOptions {
     /// Hausdorff 2.6e-2 -> 3.6e-2. The README has the current figures.
     bool s_cycles_from_handle_loops = true;
     /// With s_cycles_from_handle_loops, where the handle loops gave the S-cycles: build the layout
-    /// with Algorithm 1's S-cycles too (refining the surface no more than vertices_added_bound(),
-    /// or than the first layout if that passed it) and keep it if both its patch area max/min and
-    /// its corner angle deviation are smaller. Which fits better depends on the shape (big bodies
+    /// with Algorithm 1's S-cycles too (unless the first layout is past vertices_added_bound();
+    /// abandoned once it refines past it) and keep it if both its patch area max/min and its
+    /// corner angle deviation are smaller. Which fits better depends on the shape (big bodies
     /// with small handles: Algorithm 1's; fertility, botijo: the handle loops'; the README's
     /// Benchmarks). This about doubles the time of the layout curves.
     bool s_cycles_compare = true;
