@@ -316,14 +316,7 @@ std::function<double(int)> Builder::cost_near(const std::vector<char>& block,
             for (int w : s_.ring(v))
                 if (!block[w]) (*beside)[w] = 1;
     }
-    const Surface* s = &s_;
-    const double a = o_.repulsion, sigma = sigma_;
-    return [s, field, beside, a, sigma, adjacency](int h) {
-        const double d = 0.5 * ((*field)[s->from(h)] + (*field)[s->to(h)]);
-        double f = 1.0 + a * std::exp(-d / sigma);
-        if (!beside->empty()) f += 0.5 * adjacency * ((*beside)[s->from(h)] + (*beside)[s->to(h)]);
-        return s->length(h) * f;
-    };
+    return NearCost{&s_, std::move(field), std::move(beside), o_.repulsion, sigma_, adjacency};
 }
 
 double Builder::edge_cost(const std::function<double(int)>& cost, int a, int b) const {

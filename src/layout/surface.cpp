@@ -5,6 +5,7 @@
 #include <map>
 #include <queue>
 
+#include "detail/curves.h"
 #include "quadcage/core/errors.h"
 
 namespace quadcage::layout::detail {
@@ -156,37 +157,87 @@ std::vector<int> PathResult::path_to(const Surface& s, int v) const {
     return path;
 }
 
-PathResult dijkstra(const Surface& s, const PathSearch& q) {
+namespace {
+
+// Per-thread arrays of the searches, sized to the largest surface searched so far and left clean
+// (arrival +inf, flags 0) after each search: a search that settles a few hundred vertices of a
+// large surface then costs no pass over all of them. The layout runs thousands of such searches
+// (around one corner, along one edge), and the orthogonal system's two directions run in threads.
+struct SearchScratch {
+    std::vector<double> arrival;
+    std::vector<char> done, wanted;
+    std::vector<int> reached;  // vertices given a distance, each once
+    std::vector<std::pair<double, int>> heap;
+
+    void reserve(int n) {
+        if (static_cast<int>(done.size()) >= n) return;
+        arrival.resize(n, std::numeric_limits<double>::infinity());
+        done.resize(n, 0);
+        wanted.resize(n, 0);
+    }
+};
+
+// Puts a search's scratch back as it found it, also when the search throws.
+class ScratchGuard {
+public:
+    ScratchGuard(SearchScratch& w, const PathSearch& q) : w_(w), q_(q) {}
+    ScratchGuard(const ScratchGuard&) = delete;
+    ScratchGuard& operator=(const ScratchGuard&) = delete;
+    ~ScratchGuard() {
+        for (int v : w_.reached) w_.done[v] = 0;
+        for (const auto& [v, c] : q_.sources) w_.done[v] = 0;
+        for (const auto& [v, c] : q_.targets) w_.arrival[v] = std::numeric_limits<double>::infinity();
+        for (int v : q_.settle) w_.wanted[v] = 0;
+        w_.reached.clear();
+        w_.heap.clear();
+    }
+
+private:
+    SearchScratch& w_;
+    const PathSearch& q_;
+};
+
+template <class Cost>
+PathResult run_dijkstra(const Surface& s, const PathSearch& q, const Cost& cost) {
     const int n = s.num_vertices();
     const double inf = std::numeric_limits<double>::infinity();
+    thread_local SearchScratch w;
+    w.reserve(n);
+    const ScratchGuard guard(w, q);
     PathResult r;
     r.distance.assign(n, inf);
     r.parent_half_edge.assign(n, -1);
-    std::vector<double> arrival(n, inf);
+    std::vector<double>& arrival = w.arrival;
+    std::vector<char>& done = w.done;
     for (auto [v, c] : q.targets) arrival[v] = std::min(arrival[v], c);
+    // A binary heap on (distance, vertex), as std::priority_queue with std::greater: the pairs are
+    // totally ordered, so they leave in the same order whatever the heap's layout.
     using Item = std::pair<double, int>;
-    std::priority_queue<Item, std::vector<Item>, std::greater<Item>> heap;
+    std::vector<Item>& heap = w.heap;
+    const auto later = std::greater<Item>();
     for (auto [v, c] : q.sources)
         if (c < r.distance[v]) {
             r.distance[v] = c;
-            heap.push({c, v});
+            heap.push_back({c, v});
+            std::push_heap(heap.begin(), heap.end(), later);
         }
     double best = inf;
-    std::vector<char> done(n, 0);
-    std::vector<char> wanted(q.settle.empty() ? 0 : n, 0);
+    const bool settle = !q.settle.empty();
     size_t still_wanted = 0;
     for (int v : q.settle)
-        if (!wanted[v]) {
-            wanted[v] = 1;
+        if (!w.wanted[v]) {
+            w.wanted[v] = 1;
             ++still_wanted;
         }
+    std::vector<int>& reached = w.reached;
     while (!heap.empty()) {
-        auto [d, v] = heap.top();
-        heap.pop();
+        const auto [d, v] = heap.front();
+        std::pop_heap(heap.begin(), heap.end(), later);
+        heap.pop_back();
         if (done[v]) continue;
         if (d > q.max_distance) break;  // everything left is farther
         done[v] = 1;
-        if (!wanted.empty() && wanted[v] && --still_wanted == 0) break;
+        if (settle && w.wanted[v] && --still_wanted == 0) break;
         if (!q.targets.empty() && d >= best) break;
         if (arrival[v] < inf && d + arrival[v] < best) {
             best = d + arrival[v];
@@ -195,23 +246,37 @@ PathResult dijkstra(const Surface& s, const PathSearch& q) {
         const int h0 = s.out_half_edge(v);
         int h = h0;
         do {
-            const int w = s.to(h);
-            if (!done[w] && !(q.blocked && (*q.blocked)[w])) {
-                const double nd = d + (q.cost ? q.cost(h) : s.length(h));
-                if (nd < r.distance[w]) {
-                    r.distance[w] = nd;
-                    r.parent_half_edge[w] = h;
-                    heap.push({nd, w});
+            const int x = s.to(h);
+            if (!done[x] && !(q.blocked && (*q.blocked)[x])) {
+                const double nd = d + cost(h);
+                if (nd < r.distance[x]) {
+                    if (r.distance[x] == inf) reached.push_back(x);
+                    r.distance[x] = nd;
+                    r.parent_half_edge[x] = h;
+                    heap.push_back({nd, x});
+                    std::push_heap(heap.begin(), heap.end(), later);
                 }
             }
             h = s.rotate(h);
         } while (h != h0);
     }
     // A search stopped early leaves tentative distances behind: only settled vertices count.
-    for (int w = 0; w < n; ++w)
-        if (!done[w]) r.distance[w] = inf;
+    for (const auto& [v, c] : q.sources)
+        if (!done[v]) r.distance[v] = inf;
+    for (int x : reached)
+        if (!done[x]) r.distance[x] = inf;
     r.target_cost = best;
     return r;
+}
+
+}  // namespace
+
+PathResult dijkstra(const Surface& s, const PathSearch& q) {
+    // The cost of most searches is Builder::cost_near()'s: called directly, not through
+    // std::function, it is inlined into the search's inner loop.
+    if (!q.cost) return run_dijkstra(s, q, [&s](int h) { return s.length(h); });
+    if (const NearCost* near = q.cost.target<NearCost>()) return run_dijkstra(s, q, *near);
+    return run_dijkstra(s, q, q.cost);
 }
 
 }  // namespace quadcage::layout::detail

@@ -5,8 +5,10 @@
 // that keeps new curves away from old ones (design.md §4).
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <unordered_set>
 #include <utility>
 #include <vector>
@@ -30,6 +32,22 @@ std::uint64_t edge_key(int a, int b);
 
 /// Up to k vertices spread evenly along a curve, skipping those `skip` rejects.
 std::vector<int> spread(const Cycle& c, int k, const std::function<bool(int)>& skip);
+
+/// The path cost Builder::cost_near() returns: an edge's length, more near blocked vertices. A type
+/// of its own so that dijkstra() can call it directly instead of through std::function.
+struct NearCost {
+    const Surface* s = nullptr;
+    std::shared_ptr<const std::vector<double>> field;  ///< Distance to the nearest blocked vertex.
+    std::shared_ptr<const std::vector<char>> beside;   ///< Neighbours of blocked vertices (or empty).
+    double repulsion = 0, sigma = 1, adjacency = 0;
+
+    double operator()(int h) const {
+        const double d = 0.5 * ((*field)[s->from(h)] + (*field)[s->to(h)]);
+        double f = 1.0 + repulsion * std::exp(-d / sigma);
+        if (!beside->empty()) f += 0.5 * adjacency * ((*beside)[s->from(h)] + (*beside)[s->to(h)]);
+        return s->length(h) * f;
+    }
+};
 
 /// Thrown when a Builder's splits pass its vertex budget (Builder::max_vertices_): the layout being
 /// built is abandoned, not retried.
