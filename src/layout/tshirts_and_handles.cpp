@@ -24,6 +24,8 @@ std::optional<std::vector<int>> route_ring(Builder& b, const std::vector<int>& s
                                            bool face_right, double* length, int max_vertices) {
     std::vector<int> arcs;
     std::vector<int> label;
+    std::vector<char> outside;
+    int piece = -1, labelled_at = -1;  // labelled_at: b.splits_ when `label` was made
     std::vector<char> reached;
     bool opened = false;  // the last failed search had its route opened (Builder::open_route)
     for (int j = 0, attempt = 0; j < 4; ++attempt) {
@@ -33,10 +35,15 @@ std::optional<std::vector<int>> route_ring(Builder& b, const std::vector<int>& s
         if (attempt > kRoomAttempts) return std::nullopt;
         if (attempt > 0 && !opened && b.open_room(reached, attempt) == 0) return std::nullopt;
         if (b.s_.num_vertices() > max_vertices) return std::nullopt;  // worse than a ring already found
-        label_pieces(b, s_ids, &label);
-        const int piece = label[triangle_beside(b.s_, b.curves_[holes[0].curve], holes[0].side)];
+        // The pieces change only with the surface (an arc added is no S-cycle): after an arc that
+        // needed no split, the last labels still hold.
+        if (b.splits_ != labelled_at) {
+            label_pieces(b, s_ids, &label);
+            piece = label[triangle_beside(b.s_, b.curves_[holes[0].curve], holes[0].side)];
+            outside = outside_piece(b.s_, label, piece);
+            labelled_at = b.splits_;
+        }
         const std::vector<char> block = b.blocked();
-        const std::vector<char> outside = outside_piece(b.s_, label, piece);
         const auto cost = b.cost_near(block, &outside, kAdjacency);
         const int jn = (j + 1) % 4;
         const std::vector<int> here = side_toward(b.s_, b.curves_[holes[j].curve], x[j], label, piece);
