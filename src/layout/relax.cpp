@@ -88,20 +88,41 @@ UV balancing_point(int degree, const std::vector<std::pair<UV, double>>& mass) {
     auto wrap = [&](double t) { return t - 2 * pi * std::floor(t / (2 * pi)); };  // to [0, 2 pi)
     UV best{0, 0};
     double best_cost = std::numeric_limits<double>::infinity();
-    std::vector<double> beta(2 * degree), quad(degree);
+    const int corners = 2 * degree;
+    std::vector<double> beta(corners), quad(degree), ux(corners), uy(corners), un(corners);
+    // A direction whose angle to every polygon vertex is above this (as a sine) lies in the same
+    // sector by cross products as by the angles below: those carry errors of a few 1e-16.
+    constexpr double kClear = 1e-9;
     for (int a = 0; a < G; ++a)
         for (int b = 0; b < G; ++b) {
             const UV p{-1 + (a + 0.5) * 2.0 / G, -1 + (b + 0.5) * 2.0 / G};
             if (p[0] * p[0] + p[1] * p[1] > inner * inner) continue;
             // The polygon's vertices as seen from p, by angle from vertex 0 (increasing: p is inside).
             const double base = std::atan2(-p[1], 1 - p[0]);
-            for (int j = 0; j < 2 * degree; ++j)
-                beta[j] = wrap(std::atan2(std::sin(pi * j / degree) - p[1], std::cos(pi * j / degree) - p[0]) - base);
+            for (int j = 0; j < corners; ++j) {
+                ux[j] = std::cos(pi * j / degree) - p[0];
+                uy[j] = std::sin(pi * j / degree) - p[1];
+                un[j] = std::sqrt(ux[j] * ux[j] + uy[j] * uy[j]);
+                beta[j] = wrap(std::atan2(uy[j], ux[j]) - base);
+            }
             std::fill(quad.begin(), quad.end(), 0.0);
             for (const auto& [q, w] : mass) {
-                const double phi = wrap(std::atan2(q[1] - p[1], q[0] - p[0]) - base);
-                int j = 2 * degree - 1;
-                while (j > 0 && beta[j] > phi) --j;
+                // The sector between vertices j and j + 1 that holds q: by cross products (no
+                // atan2, the bulk of this search) where q is clear of the sector's sides, else by
+                // the angles.
+                const double rx = q[0] - p[0], ry = q[1] - p[1], rn = std::sqrt(rx * rx + ry * ry);
+                int j = -1;
+                for (int k = 0; k < corners && j < 0; ++k) {
+                    const int k1 = k + 1 < corners ? k + 1 : 0;
+                    if (ux[k] * ry - uy[k] * rx > kClear * un[k] * rn &&
+                        rx * uy[k1] - ry * ux[k1] > kClear * un[k1] * rn)
+                        j = k;
+                }
+                if (j < 0) {
+                    const double phi = wrap(std::atan2(q[1] - p[1], q[0] - p[0]) - base);
+                    j = corners - 1;
+                    while (j > 0 && beta[j] > phi) --j;
+                }
                 quad[j / 2] += w;
             }
             double cost = 0;
