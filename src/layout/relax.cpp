@@ -106,18 +106,23 @@ UV balancing_point(int degree, const std::vector<std::pair<UV, double>>& mass) {
                 beta[j] = wrap(std::atan2(uy[j], ux[j]) - base);
             }
             std::fill(quad.begin(), quad.end(), 0.0);
+            int last = 0;
             for (const auto& [q, w] : mass) {
                 // The sector between vertices j and j + 1 that holds q: by cross products (no
                 // atan2, the bulk of this search) where q is clear of the sector's sides, else by
                 // the angles.
                 const double rx = q[0] - p[0], ry = q[1] - p[1], rn = std::sqrt(rx * rx + ry * ry);
+                // The bins come row by row, so the last sector found is the likeliest: the search
+                // starts there (a sector clear of its sides is the only one).
                 int j = -1;
-                for (int k = 0; k < corners && j < 0; ++k) {
+                for (int i = 0; i < corners && j < 0; ++i) {
+                    const int k = last + i < corners ? last + i : last + i - corners;
                     const int k1 = k + 1 < corners ? k + 1 : 0;
                     if (ux[k] * ry - uy[k] * rx > kClear * un[k] * rn &&
                         rx * uy[k1] - ry * ux[k1] > kClear * un[k1] * rn)
                         j = k;
                 }
+                if (j >= 0) last = j;
                 if (j < 0) {
                     const double phi = wrap(std::atan2(q[1] - p[1], q[0] - p[0]) - base);
                     j = corners - 1;
