@@ -1,11 +1,14 @@
 // The half-edge Surface every layout stage works on: adjacency, edge splits, Dijkstra.
 
+#include "detail/surface.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <stdexcept>
 
-#include "detail/surface.h"
 #include "quadcage/core/shapes.h"
 
 namespace quadcage::layout::detail {
@@ -102,6 +105,42 @@ TEST(LayoutSurface, DijkstraPathsHaveTheirDistanceAndAvoidBlockedVertices) {
     ASSERT_FALSE(wall[0]);
     q.blocked = &wall;
     EXPECT_TRUE(std::isinf(dijkstra(s, q).distance[far]));
+}
+
+// dijkstra() keeps per-thread scratch between searches: searches stopped early (at a target, a
+// distance, the settled vertices wanted, a throwing cost), and on a larger surface, leave nothing
+// behind that changes the next search.
+TEST(LayoutSurface, DijkstraSearchesLeaveNoTraceOnTheNext) {
+    const Surface s(shapes::icosphere(3));
+    PathSearch full;
+    full.sources = {{0, 0.0}, {5, 0.25}};
+    const PathResult before = dijkstra(s, full);
+    int far = 0;
+    for (int v = 0; v < s.num_vertices(); ++v)
+        if (before.distance[v] > before.distance[far]) far = v;
+    PathSearch early = full;
+    early.targets = {{far, 0.5}};
+    EXPECT_EQ(dijkstra(s, early).target, far);
+    early = full;
+    early.max_distance = 1.0;
+    const PathResult near = dijkstra(s, early);
+    EXPECT_TRUE(std::isinf(near.distance[far]));
+    EXPECT_EQ(near.distance[0], 0.0);
+    early = full;
+    early.settle = {far / 3, far / 4};
+    EXPECT_LT(dijkstra(s, early).distance[far / 3], std::numeric_limits<double>::infinity());
+    early = full;
+    int calls = 0;
+    early.cost = [&](int h) {
+        if (++calls > 50) throw std::runtime_error("stop");
+        return s.length(h);
+    };
+    EXPECT_THROW(dijkstra(s, early), std::runtime_error);
+    const Surface large(shapes::icosphere(4));
+    dijkstra(large, full);
+    const PathResult after = dijkstra(s, full);
+    EXPECT_EQ(after.distance, before.distance);
+    EXPECT_EQ(after.parent_half_edge, before.parent_half_edge);
 }
 
 }  // namespace
