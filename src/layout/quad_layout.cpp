@@ -1,12 +1,16 @@
 #include "quadcage/layout/quad_layout.h"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <exception>
 #include <limits>
 #include <map>
+#include <memory>
 #include <optional>
+#include <thread>
 
 #include "detail/curves.h"
 #include "detail/embedding.h"
@@ -371,6 +375,28 @@ QuadLayout build_variant(const Mesh& input, const Cycles& cycles, const QuadLayo
     throw InternalError(failure);
 }
 
+// A layout built in a second thread (build_quad_layout's Algorithm 1 S-cycles), with what it said.
+struct Speculation {
+    struct Cancelled {};  // thrown at the next progress message once `cancel` is set
+    explicit Speculation(long long max) : max_vertices(max) {}
+    Speculation(const Speculation&) = delete;
+    Speculation& operator=(const Speculation&) = delete;
+    ~Speculation() { stop(); }
+    // Asks the thread to stop and waits for it.
+    void stop() {
+        cancel.store(true);
+        if (thread.joinable()) thread.join();
+    }
+
+    const long long max_vertices;  // the vertex budget it was built with
+    std::thread thread;
+    std::atomic<bool> cancel{false};
+    std::vector<std::string> messages;  // its progress messages, prefixed, not yet said
+    std::optional<QuadLayout> layout;
+    std::exception_ptr error;  // what build_variant threw (nothing if it was cancelled)
+    double seconds = 0;
+};
+
 // A layout's seconds after the orthogonal system (which both S-cycle constructions share).
 double seconds_after_cycles(const QuadLayout::Seconds& s) {
     return s.curves + s.parameterization + s.verification;
@@ -384,10 +410,52 @@ QuadLayout build_quad_layout(const Mesh& input, const QuadLayoutOptions& options
         if (options.progress) options.progress(m);
     };
     const Cycles cycles = build_cycles(input, options);
+    // Algorithm 1's layout for the comparison below depends only on the orthogonal system and the
+    // bound, so it is built in a second thread while the handle loops' layout is built here. Its
+    // progress messages are held back and said once it is known to be wanted (else it is stopped
+    // at its next message and dropped), so the messages and the result are those of building the
+    // two one after the other.
+    const int g = cycles.system.genus;
+    std::unique_ptr<Speculation> other;
+    if (options.s_cycles_from_handle_loops && options.s_cycles_compare && g >= 2) {
+        const long long max_vertices =
+            input.num_vertices() + vertices_added_bound(input.num_vertices(), 8 * g - 8);
+        other = std::make_unique<Speculation>(max_vertices);
+        Speculation* sp = other.get();
+        other->thread = std::thread([sp, &input, &cycles, &options] {
+            const Say held = [sp](const std::string& m) {
+                if (sp->cancel.load()) throw Speculation::Cancelled{};
+                sp->messages.push_back("Algorithm 1's S-cycles: " + m);
+            };
+            const auto start = std::chrono::steady_clock::now();
+            try {
+                bool unused = false;
+                sp->layout = build_variant(input, cycles, options, false, sp->max_vertices, held, &unused);
+            } catch (const Speculation::Cancelled&) {
+            } catch (...) {
+                sp->error = std::current_exception();
+            }
+            sp->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        });
+    }
     bool from_handle_loops = false;
-    QuadLayout out =
-        build_variant(input, cycles, options, options.s_cycles_from_handle_loops, 0, say, &from_handle_loops);
+    QuadLayout out = [&] {
+        try {
+            return build_variant(input, cycles, options, options.s_cycles_from_handle_loops, 0, say,
+                                 &from_handle_loops);
+        } catch (...) {
+            if (other) other->stop();
+            throw;
+        }
+    }();
     const long long bound = vertices_added_bound(out.input_vertices, out.cage.num_corners());
+    const bool compare = from_handle_loops && options.s_cycles_compare &&
+                         out.mesh.num_vertices() - out.input_vertices <= bound;
+    if (other && !(compare && other->max_vertices == out.input_vertices + bound)) {
+        other->stop();  // not wanted, or built with another bound
+        other.reset();
+    }
+    if (other) other->thread.join();
     if (from_handle_loops && options.s_cycles_compare &&
         out.mesh.num_vertices() - out.input_vertices > bound) {
         // Algorithm 1's stacked S-cycles refined more than the handle loops' on every mesh where
@@ -408,10 +476,17 @@ QuadLayout build_quad_layout(const Mesh& input, const QuadLayoutOptions& options
         const auto start = std::chrono::steady_clock::now();
         double discarded = -1;  // seconds of the layout not kept (-1: Algorithm 1's, timed below)
         try {
-            bool unused = false;
-            QuadLayout other =
-                build_variant(input, cycles, options, false, out.input_vertices + bound, other_say, &unused);
-            const LayoutQuality &a = out.quality, &b = other.quality;
+            QuadLayout alternative;
+            if (other) {
+                for (const std::string& m : other->messages) say(m);
+                if (other->error) std::rethrow_exception(other->error);
+                alternative = std::move(*other->layout);
+            } else {
+                bool unused = false;
+                alternative = build_variant(input, cycles, options, false, out.input_vertices + bound,
+                                            other_say, &unused);
+            }
+            const LayoutQuality &a = out.quality, &b = alternative.quality;
             const bool better = b.patch_area_max_over_min < a.patch_area_max_over_min &&
                                 b.corner_angle_mean_deviation_deg < a.corner_angle_mean_deviation_deg;
             char line[300];
@@ -424,13 +499,15 @@ QuadLayout build_quad_layout(const Mesh& input, const QuadLayoutOptions& options
             say(line);
             if (better) {
                 discarded = seconds_after_cycles(out.seconds);
-                out = std::move(other);
+                out = std::move(alternative);
             }
         } catch (const InternalError& e) {
             say(std::string("S-cycles: keeping the handle loops' (Algorithm 1's: ") + e.what() + ")");
         }
         if (discarded < 0)
-            discarded = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+            discarded = other
+                            ? other->seconds
+                            : std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         out.seconds.curves += discarded;  // the layout not kept: time spent on the layout curves
     }
     if (options.embedding_iterations > 0) {

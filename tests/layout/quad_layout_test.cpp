@@ -9,13 +9,14 @@
 
 #include <algorithm>
 #include <array>
-#include <iostream>
 #include <cstring>
 #include <filesystem>
+#include <iostream>
+#include <iterator>
 #include <map>
 #include <set>
-#include <tuple>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "quadcage/core/errors.h"
@@ -367,6 +368,18 @@ TEST(QuadLayoutSCycleChoice, ABodyWithSmallHandlesKeepsAlgorithmOnesSCycles) {
     EXPECT_TRUE(std::any_of(said.begin(), said.end(), [](const std::string& m) {
         return m.find("keeping Algorithm 1's") != std::string::npos;
     }));
+    // Algorithm 1's layout is built in a second thread; its messages still come as if it were built
+    // after the handle loops' one: all of them after the handle loops' last, before the choice.
+    const std::string prefix = "Algorithm 1's S-cycles: ";
+    auto is_other = [&prefix](const std::string& m) { return m.compare(0, prefix.size(), prefix) == 0; };
+    const auto first_other = std::find_if(said.begin(), said.end(), is_other);
+    const auto choice = std::find_if(
+        said.begin(), said.end(), [](const std::string& m) { return m.compare(0, 10, "S-cycles: ") == 0; });
+    ASSERT_NE(first_other, said.end());
+    ASSERT_NE(choice, said.end());
+    EXPECT_TRUE(std::all_of(first_other, choice, is_other));
+    EXPECT_TRUE(std::none_of(choice, said.end(), is_other));
+    EXPECT_EQ(*std::prev(first_other), "verifying");  // the handle loops' layout's last step
     EXPECT_LT(L.quality.patch_area_max_over_min, from_loops.quality.patch_area_max_over_min);
     EXPECT_LT(L.quality.corner_angle_mean_deviation_deg, from_loops.quality.corner_angle_mean_deviation_deg);
     EXPECT_EQ(L.mesh.points, algorithm1.mesh.points);
