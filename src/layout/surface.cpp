@@ -4,6 +4,7 @@
 #include <limits>
 #include <map>
 #include <queue>
+#include <unordered_map>
 
 #include "detail/curves.h"
 #include "quadcage/core/errors.h"
@@ -94,10 +95,14 @@ std::vector<int> Surface::split_edges(const std::vector<std::pair<int, int>>& ed
     };
     std::vector<Triangle> out;
     out.reserve(mesh_.triangles.size() + 3 * mid.size());
-    for (const Triangle& t : mesh_.triangles) {
+    const int old_triangles = mesh_.num_triangles();
+    std::vector<int> kept(old_triangles, -1);  // new index of a triangle that is not split
+    for (int f = 0; f < old_triangles; ++f) {
+        const Triangle& t = mesh_.triangles[f];
         int m[3] = {m_of(t[0], t[1]), m_of(t[1], t[2]), m_of(t[2], t[0])};
         const int count = (m[0] >= 0) + (m[1] >= 0) + (m[2] >= 0);
         if (count == 0) {
+            kept[f] = static_cast<int>(out.size());
             out.push_back(t);
             continue;
         }
@@ -124,7 +129,40 @@ std::vector<int> Surface::split_edges(const std::vector<std::pair<int, int>>& ed
         }
     }
     mesh_.triangles = std::move(out);
-    rebuild();
+    // The adjacency as rebuild() would make it, but only the split triangles' part searched for: a
+    // triangle that is not split keeps its twins across edges to others that are not (renumbered);
+    // the half-edges left (in split triangles, or next to them) are matched by their ends. The
+    // layout splits a few dozen edges at a time on surfaces of 10^5 triangles.
+    const int nh = num_half_edges();
+    std::vector<int> old_twin = std::move(twin_);
+    twin_.assign(nh, -1);
+    for (int f = 0; f < old_triangles; ++f) {
+        if (kept[f] < 0) continue;
+        for (int k = 0; k < 3; ++k) {
+            const int o = old_twin[3 * f + k];
+            if (kept[o / 3] >= 0) twin_[3 * kept[f] + k] = 3 * kept[o / 3] + o % 3;
+        }
+    }
+    std::unordered_map<std::uint64_t, int> open;  // unmatched half-edge by (from, to)
+    auto directed = [](int a, int b) {
+        return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) |
+               static_cast<std::uint32_t>(b);
+    };
+    for (int h = 0; h < nh; ++h) {
+        if (twin_[h] >= 0) continue;
+        const auto it = open.find(directed(to(h), from(h)));
+        if (it == open.end()) {
+            QC_CHECK(open.emplace(directed(from(h), to(h)), h).second,
+                     "Surface: edge used twice in one direction (not manifold/oriented)");
+            continue;
+        }
+        twin_[h] = it->second;
+        twin_[it->second] = h;
+        open.erase(it);
+    }
+    QC_CHECK(open.empty(), "Surface: open edge (the surface must be closed)");
+    out_.assign(num_vertices(), -1);
+    for (int h = nh - 1; h >= 0; --h) out_[from(h)] = h;
     return result;
 }
 

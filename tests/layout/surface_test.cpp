@@ -62,6 +62,37 @@ TEST(LayoutSurface, SplitEdgesKeepsVerticesAndAddsMidpoints) {
     expect_consistent(s);
 }
 
+// split_edges() updates the adjacency of the split triangles only: it must be the one a surface
+// built from the split mesh has (the same twins and the same first outgoing half-edge per vertex,
+// where rotations start), after splits of one, two and three edges of a triangle, of neighbouring
+// triangles, and after several batches.
+TEST(LayoutSurface, SplitEdgesGiveTheAdjacencyOfAFreshSurface) {
+    Surface s(shapes::torus(12, 6));
+    auto expect_as_fresh = [](const Surface& split) {
+        const Surface fresh(split.mesh());
+        for (int h = 0; h < split.num_half_edges(); ++h) ASSERT_EQ(split.twin(h), fresh.twin(h)) << h;
+        for (int v = 0; v < split.num_vertices(); ++v)
+            ASSERT_EQ(split.out_half_edge(v), fresh.out_half_edge(v)) << v;
+    };
+    const Triangle t = s.mesh().triangles[5];
+    s.split_edges({{t[0], t[1]}, {t[1], t[2]}, {t[2], t[0]}});  // all three edges of one triangle
+    expect_as_fresh(s);
+    const Triangle u = s.mesh().triangles[20];
+    s.split_edges({{u[0], u[1]}, {u[1], u[2]}});  // two edges of one triangle
+    expect_as_fresh(s);
+    std::vector<std::pair<int, int>> ring_edges;  // a vertex's star: every edge out of it
+    for (int w : s.ring(30)) ring_edges.push_back({30, w});
+    s.split_edges(ring_edges);
+    expect_as_fresh(s);
+    for (int batch = 0; batch < 4; ++batch) {
+        std::vector<std::pair<int, int>> edges;
+        for (int h = 7 * batch; h < s.num_half_edges(); h += 37)
+            if (s.from(h) < s.to(h)) edges.push_back({s.from(h), s.to(h)});
+        s.split_edges(edges);
+        expect_as_fresh(s);
+    }
+}
+
 TEST(LayoutSurface, InsertMidpointsFollowsTheSplitEdges) {
     std::vector<std::vector<int>> curves = {{0, 1, 2}, {5, 6}};
     insert_midpoints(curves, {{1, 2, 10}, {2, 0, 11}, {6, 5, 12}}, true);
