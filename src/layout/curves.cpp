@@ -316,7 +316,16 @@ std::function<double(int)> Builder::cost_near(const std::vector<char>& block,
             for (int w : s_.ring(v))
                 if (!block[w]) (*beside)[w] = 1;
     }
-    return NearCost{&s_, std::move(field), std::move(beside), o_.repulsion, sigma_, adjacency};
+    return NearCost{&s_, std::move(field), std::move(beside), o_.repulsion, sigma_, adjacency, {}};
+}
+
+std::function<double(int)> memoised(const std::function<double(int)>& cost) {
+    const NearCost* near = cost.target<NearCost>();
+    if (!near) return cost;
+    NearCost m = *near;
+    m.memo = std::make_shared<std::vector<double>>(m.s->num_half_edges(),
+                                                   std::numeric_limits<double>::quiet_NaN());
+    return m;
 }
 
 double Builder::edge_cost(const std::function<double(int)>& cost, int a, int b) const {

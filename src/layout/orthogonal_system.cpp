@@ -309,7 +309,7 @@ Chain build_chain(Builder b, const std::vector<Cycle>& loops, const std::vector<
         std::fill(b.obstacle_.begin(), b.obstacle_.end(), 1);
         b.split_chords();
         const std::vector<char> block = b.blocked();
-        const auto cost = b.cost_near(block);
+        const auto cost = detail::memoised(b.cost_near(block));  // crossing_candidates searches share it
         const Cycle& a = b.curves_[i];
         double best = kInf;
         Cycle best_b;
@@ -342,7 +342,7 @@ Chain build_chain(Builder b, const std::vector<Cycle>& loops, const std::vector<
         for (size_t c = 0; c < b.curves_.size(); ++c) b.obstacle_[c] = c == 0 || c >= static_cast<size_t>(g);
         b.split_chords();
         std::vector<char> block = b.blocked();
-        auto cost = b.cost_near(block);
+        auto cost = detail::memoised(b.cost_near(block));  // two searches per crossing candidate share it
         const Cycle &bi = b.curves_[b_index[i]], &bj = b.curves_[b_index[i + 1]];
         const auto skip = [&](int v) { return final_count(v) != 1; };
         const std::vector<int> xs = spread(bi, b.o_.crossing_candidates, skip);

@@ -40,14 +40,27 @@ struct NearCost {
     std::shared_ptr<const std::vector<double>> field;  ///< Distance to the nearest blocked vertex.
     std::shared_ptr<const std::vector<char>> beside;   ///< Neighbours of blocked vertices (or empty).
     double repulsion = 0, sigma = 1, adjacency = 0;
+    /// Per half-edge, its cost once computed (NaN before), if memoised(): for a cost that many
+    /// searches over the same region share. Copies share it: use them in one thread only.
+    std::shared_ptr<std::vector<double>> memo;
 
     double operator()(int h) const {
+        if (!memo) return compute(h);
+        double& c = (*memo)[h];
+        if (std::isnan(c)) c = compute(h);
+        return c;
+    }
+    double compute(int h) const {
         const double d = 0.5 * ((*field)[s->from(h)] + (*field)[s->to(h)]);
         double f = 1.0 + repulsion * std::exp(-d / sigma);
         if (!beside->empty()) f += 0.5 * adjacency * ((*beside)[s->from(h)] + (*beside)[s->to(h)]);
         return s->length(h) * f;
     }
 };
+
+/// `cost` (from Builder::cost_near()) remembering each half-edge's cost once computed; any other
+/// cost unchanged. The same costs, computed once for searches that share them.
+std::function<double(int)> memoised(const std::function<double(int)>& cost);
 
 /// Thrown when a Builder's splits pass its vertex budget (Builder::max_vertices_): the layout being
 /// built is abandoned, not retried.
