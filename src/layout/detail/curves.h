@@ -41,7 +41,8 @@ struct NearCost {
     std::shared_ptr<const std::vector<char>> beside;   ///< Neighbours of blocked vertices (or empty).
     double repulsion = 0, sigma = 1, adjacency = 0;
     /// Per half-edge, its cost once computed (NaN before), if memoised(): for a cost that many
-    /// searches over the same region share. Copies share it: use them in one thread only.
+    /// searches over the same region share. Copies share it: use them in one thread only, and
+    /// (as the cost itself) only until the surface is split.
     std::shared_ptr<std::vector<double>> memo;
 
     double operator()(int h) const {
