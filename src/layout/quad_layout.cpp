@@ -394,7 +394,6 @@ struct Speculation {
     std::vector<std::string> messages;  // its progress messages, prefixed, not yet said
     std::optional<QuadLayout> layout;
     std::exception_ptr error;  // what build_variant threw (nothing if it was cancelled)
-    double seconds = 0;
 };
 
 // A layout's seconds after the orthogonal system (which both S-cycle constructions share).
@@ -416,6 +415,10 @@ QuadLayout build_quad_layout(const Mesh& input, const QuadLayoutOptions& options
     // at its next message and dropped), so the messages and the result are those of building the
     // two one after the other.
     const int g = cycles.system.genus;
+    const auto after_cycles = std::chrono::steady_clock::now();
+    auto since = [](std::chrono::steady_clock::time_point t) {
+        return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+    };
     std::unique_ptr<Speculation> other;
     if (options.s_cycles_from_handle_loops && options.s_cycles_compare && g >= 2) {
         const long long max_vertices =
@@ -427,7 +430,6 @@ QuadLayout build_quad_layout(const Mesh& input, const QuadLayoutOptions& options
                 if (sp->cancel.load()) throw Speculation::Cancelled{};
                 sp->messages.push_back("Algorithm 1's S-cycles: " + m);
             };
-            const auto start = std::chrono::steady_clock::now();
             try {
                 bool unused = false;
                 sp->layout = build_variant(input, cycles, options, false, sp->max_vertices, held, &unused);
@@ -435,7 +437,6 @@ QuadLayout build_quad_layout(const Mesh& input, const QuadLayoutOptions& options
             } catch (...) {
                 sp->error = std::current_exception();
             }
-            sp->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         });
     }
     bool from_handle_loops = false;
@@ -452,8 +453,10 @@ QuadLayout build_quad_layout(const Mesh& input, const QuadLayoutOptions& options
     const bool compare = from_handle_loops && options.s_cycles_compare &&
                          out.mesh.num_vertices() - out.input_vertices <= bound;
     if (other && !(compare && other->max_vertices == out.input_vertices + bound)) {
+        const auto stopping = std::chrono::steady_clock::now();
         other->stop();  // not wanted, or built with another bound
         other.reset();
+        out.seconds.curves += since(stopping);  // waiting for it to stop: time of the layout curves
     }
     if (other) other->thread.join();
     if (from_handle_loops && options.s_cycles_compare &&
@@ -504,10 +507,10 @@ QuadLayout build_quad_layout(const Mesh& input, const QuadLayoutOptions& options
         } catch (const InternalError& e) {
             say(std::string("S-cycles: keeping the handle loops' (Algorithm 1's: ") + e.what() + ")");
         }
-        if (discarded < 0)
-            discarded = other
-                            ? other->seconds
-                            : std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        if (other)  // built side by side: the wall time past the layout kept, not the sum of both
+            discarded = std::max(0.0, since(after_cycles) - seconds_after_cycles(out.seconds));
+        else if (discarded < 0)
+            discarded = since(start);
         out.seconds.curves += discarded;  // the layout not kept: time spent on the layout curves
     }
     if (options.embedding_iterations > 0) {
