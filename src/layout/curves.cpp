@@ -319,6 +319,36 @@ std::function<double(int)> Builder::cost_near(const std::vector<char>& block,
     return NearCost{&s_, std::move(field), std::move(beside), o_.repulsion, sigma_, adjacency, {}};
 }
 
+std::function<double(int)> Builder::grown_cost_near(const std::function<double(int)>& previous,
+                                                    const std::vector<char>& previous_block,
+                                                    const std::vector<char>& block,
+                                                    const std::vector<char>* outside) const {
+    const NearCost* near = previous.target<NearCost>();
+    if (!near) return previous;  // no cost (no repulsion, no adjacency): none now either
+    QC_CHECK(near->s == &s_ && near->field->size() == static_cast<size_t>(s_.num_vertices()),
+             "grown_cost_near: the surface changed");
+    std::vector<int> added;  // the new sources, as cost_near() takes them
+    for (int v = 0; v < s_.num_vertices(); ++v)
+        if (block[v] && !previous_block[v] && !(outside && (*outside)[v])) added.push_back(v);
+    NearCost grown = *near;
+    grown.memo = nullptr;
+    auto field = std::make_shared<std::vector<double>>(*near->field);
+    lower_distances(s_, added, outside, 8 * sigma_, field.get());
+    grown.field = std::move(field);
+    if (!near->beside->empty()) {
+        // Neighbours of a source that are not blocked: the old ones less those blocked now, and the
+        // new sources' ones.
+        auto beside = std::make_shared<std::vector<char>>(*near->beside);
+        for (int v = 0; v < s_.num_vertices(); ++v)
+            if (block[v]) (*beside)[v] = 0;
+        for (int v : added)
+            for (int w : s_.ring(v))
+                if (!block[w]) (*beside)[w] = 1;
+        grown.beside = std::move(beside);
+    }
+    return grown;
+}
+
 std::function<double(int)> memoised(const std::function<double(int)>& cost) {
     const NearCost* near = cost.target<NearCost>();
     if (!near) return cost;

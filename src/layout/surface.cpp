@@ -317,4 +317,36 @@ PathResult dijkstra(const Surface& s, const PathSearch& q) {
     return run_dijkstra(s, q, q.cost);
 }
 
+void lower_distances(const Surface& s, const std::vector<int>& sources, const std::vector<char>* blocked,
+                     double max_distance, std::vector<double>* distance) {
+    std::vector<double>& d = *distance;
+    using Item = std::pair<double, int>;
+    std::priority_queue<Item, std::vector<Item>, std::greater<Item>> heap;
+    for (int v : sources)
+        if (0.0 < d[v]) {
+            d[v] = 0.0;
+            heap.push({0.0, v});
+        }
+    // Only vertices the new sources bring nearer are pushed: a vertex that keeps its distance
+    // brings none of its neighbours nearer either (rounding is monotonic).
+    while (!heap.empty()) {
+        const auto [dv, v] = heap.top();
+        heap.pop();
+        if (dv > d[v]) continue;  // lowered again since
+        const int h0 = s.out_half_edge(v);
+        int h = h0;
+        do {
+            const int x = s.to(h);
+            if (!(blocked && (*blocked)[x])) {
+                const double nd = dv + s.length(h);
+                if (nd < d[x] && nd <= max_distance) {
+                    d[x] = nd;
+                    heap.push({nd, x});
+                }
+            }
+            h = s.rotate(h);
+        } while (h != h0);
+    }
+}
+
 }  // namespace quadcage::layout::detail

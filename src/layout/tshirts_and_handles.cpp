@@ -26,6 +26,9 @@ std::optional<std::vector<int>> route_ring(Builder& b, const std::vector<int>& s
     std::vector<int> label;
     std::vector<char> outside;
     int piece = -1, labelled_at = -1;  // labelled_at: b.splits_ when `label` was made
+    std::function<double(int)> last_cost;  // the last search's path cost, its blocked vertices,
+    std::vector<char> last_block;          // and b.splits_ when it was made
+    int cost_at = -1;
     std::vector<char> reached;
     bool opened = false;  // the last failed search had its route opened (Builder::open_route)
     for (int j = 0, attempt = 0; j < 4; ++attempt) {
@@ -44,7 +47,14 @@ std::optional<std::vector<int>> route_ring(Builder& b, const std::vector<int>& s
             labelled_at = b.splits_;
         }
         const std::vector<char> block = b.blocked();
-        const auto cost = b.cost_near(block, &outside, kAdjacency);
+        // After an arc that needed no split, only the arc is new: the last cost's field is lowered
+        // from it instead of searched again.
+        const std::function<double(int)> cost =
+            b.splits_ == cost_at ? b.grown_cost_near(last_cost, last_block, block, &outside)
+                                 : b.cost_near(block, &outside, kAdjacency);
+        last_cost = cost;
+        last_block = block;
+        cost_at = b.splits_;
         const int jn = (j + 1) % 4;
         const std::vector<int> here = side_toward(b.s_, b.curves_[holes[j].curve], x[j], label, piece);
         const std::vector<int> there = side_toward(b.s_, b.curves_[holes[jn].curve], x[jn], label, piece);

@@ -174,5 +174,27 @@ TEST(LayoutSurface, DijkstraSearchesLeaveNoTraceOnTheNext) {
     EXPECT_EQ(after.parent_half_edge, before.parent_half_edge);
 }
 
+// lower_distances() adds sources to a distance field: the result is the field of all the sources
+// searched together, to the last bit, with blocked vertices and a distance limit.
+TEST(LayoutSurface, LowerDistancesGivesTheFieldOfAllTheSources) {
+    const Surface s(shapes::icosphere(4));
+    std::vector<char> block(s.num_vertices(), 0);
+    for (int v = 0; v < s.num_vertices(); ++v) block[v] = std::abs(s.point(v).z) < 0.05 && s.point(v).x > 0;
+    for (const double limit : {std::numeric_limits<double>::infinity(), 0.7}) {
+        PathSearch q;
+        q.blocked = &block;
+        q.max_distance = limit;
+        std::vector<int> first, more;
+        for (int v = 0; v < s.num_vertices(); v += 97)
+            if (!block[v]) (v % 2 ? first : more).push_back(v);
+        for (int v : first) q.sources.push_back({v, 0.0});
+        std::vector<double> field = dijkstra(s, q).distance;
+        for (int v : more) q.sources.push_back({v, 0.0});
+        const std::vector<double> all = dijkstra(s, q).distance;
+        lower_distances(s, more, &block, limit, &field);
+        EXPECT_EQ(field, all);
+    }
+}
+
 }  // namespace
 }  // namespace quadcage::layout::detail

@@ -152,6 +152,15 @@ public:
                                          const std::vector<char>* outside = nullptr,
                                          double adjacency = 0) const;
 
+    /// cost_near(block, outside, adjacency) from `previous`, the cost_near() of `previous_block` with
+    /// the same `outside` and adjacency, where `block` adds vertices to `previous_block` on the same
+    /// surface (no split since): the same cost, its field lowered from the added vertices only
+    /// (lower_distances()) instead of searched again from all.
+    std::function<double(int)> grown_cost_near(const std::function<double(int)>& previous,
+                                               const std::vector<char>& previous_block,
+                                               const std::vector<char>& block,
+                                               const std::vector<char>* outside) const;
+
     double edge_cost(const std::function<double(int)>& cost, int a, int b) const;
 
     /// Shortest path leaving x through `from_sector` and reaching y through `to_sector` (vertices

@@ -84,4 +84,12 @@ struct PathResult {
 
 PathResult dijkstra(const Surface& s, const PathSearch& search);
 
+/// Lowers `distance`, the distances of a search without cost (edge lengths) from some sources, to
+/// those of the same search with `sources` (at cost 0) added: the values dijkstra() gives for all
+/// the sources together (each is the least rounded sum along a path, whatever order finds it), found
+/// from the new sources only where they are nearer. `blocked` and `max_distance` as for PathSearch,
+/// and the same as the search's that made `distance`.
+void lower_distances(const Surface& s, const std::vector<int>& sources, const std::vector<char>* blocked,
+                     double max_distance, std::vector<double>* distance);
+
 }  // namespace quadcage::layout::detail
