@@ -5,6 +5,9 @@
 # botijo <= 10 s; botijo at 1.3M triangles <= 120 s and <= 4 GiB.
 # With --plates FROM TO: instead, the generated plates (`quadcage generate plate -g G`) of genus
 # FROM..TO, each with an hour's timeout (the issue's "generated solids of genus 0..20").
+# When `blender` is on PATH (and not with --plates), the same run also times QuadriFlow remeshing
+# botijo to 1000 quads (tools/bench/quadriflow.py, its own seconds) and prints our botijo layout's
+# wall time over it (issue #20's speed target: at most 2).
 #   tools/bench/layout.sh [BUILD_DIR] [--no-large | --plates FROM TO]
 set -euo pipefail
 cd "$(dirname "$0")/../.."
@@ -40,6 +43,7 @@ run() {
     return
   fi
   end=$(date +%s.%N)
+  python3 -c "print($end - $start)" >"$work/wall_$name"
   local input_arg=(--input "$m")
   # The checker's reader does not know PLY tristrips (igea): check the rest without --input.
   if head -c 2000 "$m" | grep -aq "element tristrips"; then input_arg=(); fi
@@ -68,4 +72,34 @@ for g in "${plates[@]}"; do
   "$qc" generate plate -g "$g" -o "$work/plate_$g.obj" >/dev/null
   run "$work/plate_$g.obj" "plate genus $g"
 done
+if [ ${#plates[@]} -eq 0 ] && command -v blender >/dev/null; then
+  # QuadriFlow's script reads OBJ: botijo's OFF rewritten, the same vertices and triangles.
+  python3 - "$meshes/botijo.off" "$work/botijo.obj" <<'PY'
+import sys
+words = open(sys.argv[1]).read().split()
+assert words[0] == 'OFF'
+nv, nf = int(words[1]), int(words[2])
+at = 4
+with open(sys.argv[2], 'w') as out:
+    for i in range(nv):
+        out.write('v %s %s %s\n' % tuple(words[at:at + 3]))
+        at += 3
+    for i in range(nf):
+        k = int(words[at])
+        out.write('f ' + ' '.join(str(int(w) + 1) for w in words[at + 1:at + 1 + k]) + '\n')
+        at += 1 + k
+PY
+  if blender -b --factory-startup -noaudio --python-exit-code 1 --python tools/bench/quadriflow.py -- \
+    "$work/botijo.obj" "$work/botijo_qf.obj" 1000 0 >"$work/qf.log" 2>&1; then
+    python3 - "$work/botijo_qf.obj.json" "$work/wall_botijo.off" <<'PY'
+import json, sys
+qf = json.load(open(sys.argv[1]))
+ours = float(open(sys.argv[2]).read())
+print('\nbotijo: our layout %.2f s; QuadriFlow to %d quads (target 1000) %.2f s; ratio %.2f (target <= 2)'
+      % (ours, qf['quads_out'], qf['seconds'], ours / qf['seconds']))
+PY
+  else
+    echo; echo "botijo: QuadriFlow failed: $(tail -1 "$work/qf.log")"
+  fi
+fi
 exit 0
