@@ -11,6 +11,13 @@
 
 namespace quadcage::fit::detail {
 
+namespace {
+
+/// Factorisations of fewer flops (CHOLMOD's count after the analysis) run their BLAS on one thread.
+constexpr double kThreadedBlasFlops = 1e9;
+
+}  // namespace
+
 struct NormalEquations::Factor {
     Eigen::SparseMatrix<double> h;  ///< Upper triangle of H (the pattern; values per round).
     Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Upper> llt;
@@ -126,11 +133,15 @@ bool NormalEquations::solve(const std::vector<double>& x, double damping, std::v
         diag[i] = values[diagonal_[i]];
         values[diagonal_[i]] += damping * diag[i];
     }
-    const quadcage::detail::ScopedBlasThreads blas;
     if (!f.analysed) {
-        f.llt.analyzePattern(f.h);
+        f.llt.analyzePattern(f.h);  // the ordering only: no BLAS
         f.analysed = true;
     }
+    // A small factorisation runs its BLAS on one thread: a second thread saves it little, and
+    // OpenBLAS's worker then spins for a while after every call, on a core the fit's own threads need
+    // next (on botijo, a level-1 factorisation is 1e7 flops and its level 3's 2e9).
+    const quadcage::detail::ScopedBlasThreads blas(
+        f.llt.cholmod().fl < kThreadedBlasFlops ? 1 : quadcage::detail::kBlasThreads);
     f.llt.factorize(f.h);
     bool ok = f.llt.info() == Eigen::Success;
     Eigen::VectorXd step;
