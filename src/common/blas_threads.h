@@ -15,7 +15,8 @@
 
 namespace quadcage::detail {
 
-/// BLAS threads of the factorisations.
+/// BLAS threads of the factorisations (the fit's small ones, under 1e9 flops, run on one:
+/// fit/detail/normal_equations.cpp).
 inline constexpr int kBlasThreads = 2;
 
 /// Sets OpenBLAS's thread count to `threads` for the object's lifetime and restores it after. Does
