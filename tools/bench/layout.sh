@@ -73,24 +73,8 @@ for g in "${plates[@]}"; do
   run "$work/plate_$g.obj" "plate genus $g"
 done
 if [ ${#plates[@]} -eq 0 ] && command -v blender >/dev/null; then
-  # QuadriFlow's script reads OBJ: botijo's OFF rewritten, the same vertices and triangles.
-  python3 - "$meshes/botijo.off" "$work/botijo.obj" <<'PY'
-import sys
-words = open(sys.argv[1]).read().split()
-assert words[0] == 'OFF'
-nv, nf = int(words[1]), int(words[2])
-at = 4
-with open(sys.argv[2], 'w') as out:
-    for i in range(nv):
-        out.write('v %s %s %s\n' % tuple(words[at:at + 3]))
-        at += 3
-    for i in range(nf):
-        k = int(words[at])
-        out.write('f ' + ' '.join(str(int(w) + 1) for w in words[at + 1:at + 1 + k]) + '\n')
-        at += 1 + k
-PY
   if blender -b --factory-startup -noaudio --python-exit-code 1 --python tools/bench/quadriflow.py -- \
-    "$work/botijo.obj" "$work/botijo_qf.obj" 1000 0 >"$work/qf.log" 2>&1; then
+    "$meshes/botijo.off" "$work/botijo_qf.obj" 1000 0 >"$work/qf.log" 2>&1; then
     python3 - "$work/botijo_qf.obj.json" "$work/wall_botijo.off" <<'PY'
 import json, sys
 qf = json.load(open(sys.argv[1]))

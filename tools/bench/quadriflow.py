@@ -2,7 +2,7 @@
 
     blender -b --factory-startup --python-exit-code 1 --python tools/bench/quadriflow.py -- IN.obj OUT.obj TARGET_FACES [SEED]
 
-Imports IN (OBJ; PLY and STL are accepted too), runs bpy.ops.object.quadriflow_remesh(target_faces=N,
+Imports IN (OBJ; PLY, STL and ASCII OFF are accepted too), runs bpy.ops.object.quadriflow_remesh(target_faces=N,
 seed=SEED) (blocking when called from Python; SEED, QuadriFlow's random seed, defaults to 0), exports
 the result as OBJ (polygons kept) to OUT and writes OUT.json with {"seconds": QuadriFlow's own time,
 "faces_in", "faces_out", "quads_out", "target_faces", "seed", "blender"}. Exits non-zero with one line
@@ -20,6 +20,31 @@ def fail(message):
     sys.stderr.write("quadriflow: error: " + message + "\n")
     sys.stderr.flush()
     raise SystemExit(1)
+
+
+def import_off(path):
+    """Blender has no OFF importer: reads the (ASCII) OFF's vertices and polygons into a new object."""
+    words = []
+    with open(path) as f:
+        for line in f:
+            words += line.split("#", 1)[0].split()
+    if not words or words[0] != "OFF":
+        fail("%s: not an OFF file (its first word is not OFF)" % path)
+    nv, nf = int(words[1]), int(words[2])
+    at = 4
+    verts = []
+    for _ in range(nv):
+        verts.append(tuple(float(w) for w in words[at:at + 3]))
+        at += 3
+    faces = []
+    for _ in range(nf):
+        k = int(words[at])
+        faces.append(tuple(int(w) for w in words[at + 1:at + 1 + k]))
+        at += 1 + k
+    mesh = bpy.data.meshes.new(os.path.basename(path))
+    mesh.from_pydata(verts, [], faces)
+    mesh.update()
+    bpy.context.scene.collection.objects.link(bpy.data.objects.new(mesh.name, mesh))
 
 
 def main(argv):
@@ -44,8 +69,10 @@ def main(argv):
         bpy.ops.import_mesh.ply(filepath=src)
     elif ext == ".stl":
         bpy.ops.import_mesh.stl(filepath=src)
+    elif ext == ".off":
+        import_off(src)
     else:
-        fail("unsupported input %s (convert to OBJ first)" % src)
+        fail("unsupported input %s (OBJ, PLY, STL or OFF)" % src)
     meshes = [o for o in bpy.context.scene.objects if o.type == "MESH"]
     if len(meshes) != 1:
         fail("expected one mesh object after importing %s, found %d" % (src, len(meshes)))
