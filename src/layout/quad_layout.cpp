@@ -450,23 +450,25 @@ QuadLayout build_quad_layout(const Mesh& input, const QuadLayoutOptions& options
         }
     }();
     const long long bound = vertices_added_bound(out.input_vertices, out.cage.num_corners());
-    const bool compare = from_handle_loops && options.s_cycles_compare &&
-                         out.mesh.num_vertices() - out.input_vertices <= bound;
-    if (other && !(compare && other->max_vertices == out.input_vertices + bound)) {
+    // The handle loops gave the S-cycles only where the second thread was started (genus >= 2 and
+    // both options), and a verified layout has its 8g - 8 corners: the bound is the one it used.
+    const bool compare = from_handle_loops && options.s_cycles_compare;
+    const bool within_bound = out.mesh.num_vertices() - out.input_vertices <= bound;
+    QC_CHECK(!compare || (other && other->max_vertices == out.input_vertices + bound),
+             "quad layout: Algorithm 1's layout was not built with the handle loops' bound");
+    if (other && !(compare && within_bound)) {
         const auto stopping = std::chrono::steady_clock::now();
-        other->stop();  // not wanted, or built with another bound
+        other->stop();  // not wanted
         other.reset();
         out.seconds.curves += since(stopping);  // waiting for it to stop: time of the layout curves
     }
-    if (other) other->thread.join();
-    if (from_handle_loops && options.s_cycles_compare &&
-        out.mesh.num_vertices() - out.input_vertices > bound) {
+    if (compare && !within_bound) {
         // Algorithm 1's stacked S-cycles refined more than the handle loops' on every mesh where
         // those passed the bound (boot 41k against 29k, input_wheel 290k against 24k), and were
         // abandoned only after 7 s of boot's layout.
         say("S-cycles: keeping the handle loops' (past the refinement bound already; Algorithm 1's not "
             "tried)");
-    } else if (from_handle_loops && options.s_cycles_compare) {
+    } else if (compare) {
         // Which S-cycles make the better layout depends on the shape. Level-3 fits (check_fit.py
         // Hausdorff), handle loops' against Algorithm 1's: a big body with 3 small handles
         // (generate handles -g 3) 1.5e-2 against 3.7e-3, 4 in a row 6.2e-3 against 4.7e-3, 3holes
@@ -475,20 +477,11 @@ QuadLayout build_quad_layout(const Mesh& input, const QuadLayoutOptions& options
         // angles (34.3 against 35.1 deg) it predicts all five, and eight and skull (fits within
         // 7%). So Algorithm 1's is kept only when it is better on both. It may refine no more than
         // the bound.
-        const Say other_say = [&say](const std::string& m) { say("Algorithm 1's S-cycles: " + m); };
-        const auto start = std::chrono::steady_clock::now();
-        double discarded = -1;  // seconds of the layout not kept (-1: Algorithm 1's, timed below)
+        other->thread.join();
         try {
-            QuadLayout alternative;
-            if (other) {
-                for (const std::string& m : other->messages) say(m);
-                if (other->error) std::rethrow_exception(other->error);
-                alternative = std::move(*other->layout);
-            } else {
-                bool unused = false;
-                alternative = build_variant(input, cycles, options, false, out.input_vertices + bound,
-                                            other_say, &unused);
-            }
+            for (const std::string& m : other->messages) say(m);
+            if (other->error) std::rethrow_exception(other->error);
+            QuadLayout& alternative = *other->layout;
             const LayoutQuality &a = out.quality, &b = alternative.quality;
             const bool better = b.patch_area_max_over_min < a.patch_area_max_over_min &&
                                 b.corner_angle_mean_deviation_deg < a.corner_angle_mean_deviation_deg;
@@ -500,18 +493,13 @@ QuadLayout build_quad_layout(const Mesh& input, const QuadLayoutOptions& options
                 a.patch_area_max_over_min, a.corner_angle_mean_deviation_deg, b.patch_area_max_over_min,
                 b.corner_angle_mean_deviation_deg, better ? "Algorithm 1's" : "the handle loops'");
             say(line);
-            if (better) {
-                discarded = seconds_after_cycles(out.seconds);
-                out = std::move(alternative);
-            }
+            if (better) out = std::move(alternative);
         } catch (const InternalError& e) {
             say(std::string("S-cycles: keeping the handle loops' (Algorithm 1's: ") + e.what() + ")");
         }
-        if (other)  // built side by side: the wall time past the layout kept, not the sum of both
-            discarded = std::max(0.0, since(after_cycles) - seconds_after_cycles(out.seconds));
-        else if (discarded < 0)
-            discarded = since(start);
-        out.seconds.curves += discarded;  // the layout not kept: time spent on the layout curves
+        // Built side by side: the layout not kept adds the wall time past the kept one's, not its
+        // own duration (time spent on the layout curves).
+        out.seconds.curves += std::max(0.0, since(after_cycles) - seconds_after_cycles(out.seconds));
     }
     if (options.embedding_iterations > 0) {
         const auto start = std::chrono::steady_clock::now();
