@@ -22,10 +22,6 @@ namespace quadcage::layout::detail {
 
 namespace {
 
-// How strongly a level-set loop keeps to its level: an edge costs its length times
-// 1 + kLevelStick * |u - level| (u is a distance ratio in [0, 1], or a distance over a width).
-constexpr double kLevelStick = 20.0;
-
 // How strongly a tree's path keeps away from the other tree: an edge within `reach` of it costs
 // its length times 1 + kShun * (1 - distance / reach).
 constexpr double kShun = 10.0;
@@ -78,29 +74,6 @@ Cycle level_loop(const Builder& b, const std::vector<double>& u, double level, d
     Cycle loop{x};
     loop.insert(loop.end(), path.begin(), path.end());
     return loop;
-}
-
-// The level below which `share` of the area of the triangles marked in `tri` lies (triangles at
-// the mean u of their corners).
-double area_level(const Surface& s, const std::vector<double>& u, const std::vector<char>& tri, double share) {
-    std::vector<std::pair<double, double>> by_level;  // (mean u, area)
-    double total = 0;
-    for (size_t t = 0; t < tri.size(); ++t) {
-        if (!tri[t]) continue;
-        const auto& f = s.mesh().triangles[t];
-        const double ut = (u[f[0]] + u[f[1]] + u[f[2]]) / 3;
-        if (!(ut < kInf)) continue;
-        const double a = triangle_area(s.mesh(), static_cast<int>(t));
-        by_level.push_back({ut, a});
-        total += a;
-    }
-    std::sort(by_level.begin(), by_level.end());
-    double run = 0;
-    for (const auto& [ut, a] : by_level) {
-        run += a;
-        if (run >= share * total) return ut;
-    }
-    return by_level.empty() ? 0.5 : by_level.back().first;
 }
 
 // Splits the edges that join a vertex of handle loop m to another vertex of m or of a curve that

@@ -106,6 +106,79 @@ std::vector<double> distances_from(const Surface& s, const std::vector<char>& bl
     return detail::dijkstra(s, q).distance;
 }
 
+namespace {
+
+// The triangles marked in `tri` (all if empty) by their mean u, with the area at or below each
+// one's level; triangles with a corner at +inf left out.
+struct AreaByLevel {
+    std::vector<double> levels, below;  // ascending; below.back() is the total
+};
+
+AreaByLevel area_by_level(const Surface& s, const std::vector<double>& u, const std::vector<char>& tri) {
+    std::vector<std::pair<double, double>> by_level;  // (mean u, area)
+    for (int t = 0; t < s.mesh().num_triangles(); ++t) {
+        if (!tri.empty() && !tri[t]) continue;
+        const auto& f = s.mesh().triangles[t];
+        const double ut = (u[f[0]] + u[f[1]] + u[f[2]]) / 3;
+        if (ut < kInf) by_level.push_back({ut, triangle_area(s.mesh(), t)});
+    }
+    std::sort(by_level.begin(), by_level.end());
+    AreaByLevel out;
+    double run = 0;
+    for (const auto& [ut, a] : by_level) {
+        run += a;
+        out.levels.push_back(ut);
+        out.below.push_back(run);
+    }
+    return out;
+}
+
+}  // namespace
+
+double area_level(const Surface& s, const std::vector<double>& u, const std::vector<char>& tri,
+                  double share) {
+    const AreaByLevel a = area_by_level(s, u, tri);
+    if (a.levels.empty()) return 0.5;
+    const size_t k = static_cast<size_t>(
+        std::lower_bound(a.below.begin(), a.below.end(), share * a.below.back()) - a.below.begin());
+    return a.levels[std::min(k, a.levels.size() - 1)];
+}
+
+std::vector<double> area_quantiles(const Surface& s, const std::vector<double>& u) {
+    const AreaByLevel a = area_by_level(s, u, {});
+    std::vector<double> q(u.size(), kInf);
+    for (size_t v = 0; v < u.size(); ++v) {
+        if (!(u[v] < kInf)) continue;
+        const size_t k =
+            static_cast<size_t>(std::upper_bound(a.levels.begin(), a.levels.end(), u[v]) - a.levels.begin());
+        q[v] = k > 0 && a.below.back() > 0 ? a.below[k - 1] / a.below.back() : 0.0;
+    }
+    return q;
+}
+
+std::vector<double> ratio_across(const Surface& s, const Cycle& c) {
+    const size_t n = c.size();
+    QC_CHECK(n >= 3, "ratio_across: a closed curve of fewer than 3 vertices");
+    std::vector<char> on_c(s.num_vertices(), 0);
+    for (int v : c) on_c[v] = 1;
+    std::array<std::vector<int>, 2> beside;
+    for (size_t i = 0; i < n; ++i) {
+        const auto sec = sectors(s, c[i], c[(i + n - 1) % n], c[(i + 1) % n]);
+        for (int side = 0; side < 2; ++side)
+            for (int x : sec[side])
+                if (!on_c[x]) beside[side].push_back(x);
+    }
+    const std::vector<double> d0 = distances_from(s, on_c, beside[0]),
+                              d1 = distances_from(s, on_c, beside[1]);
+    std::vector<double> u(s.num_vertices(), kInf);
+    for (int v = 0; v < s.num_vertices(); ++v) {
+        if (on_c[v] || !(d0[v] < kInf && d1[v] < kInf)) continue;
+        const double sum = d0[v] + d1[v];
+        u[v] = sum > 0 ? d0[v] / sum : 0.5;  // beside c on both sides: the middle
+    }
+    return u;
+}
+
 Cut cut_by(const Builder& b, const std::vector<int>& ids) {
     Cut c;
     c.count = label_pieces(b, ids, &c.label);

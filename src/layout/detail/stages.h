@@ -22,6 +22,9 @@ using Say = std::function<void(const std::string&)>;
 inline constexpr double kInf = std::numeric_limits<double>::infinity();
 /// Extra cost (in edge lengths) of walking next to an existing curve; see Builder::cost_near().
 inline constexpr double kAdjacency = 4.0;
+/// How strongly a level-set curve keeps to its level: an edge costs its length times
+/// 1 + kLevelStick * |u - level| (u is a distance ratio in [0, 1], or a distance over a width).
+inline constexpr double kLevelStick = 20.0;
 /// Times a search may open the walls around it (split_chords_around) before it gives up.
 inline constexpr int kRoomAttempts = 24;
 /// A T-shirt's rings that add at most this many vertices end the search over cyclic orders.
@@ -91,6 +94,23 @@ int index_in(const std::vector<int>& v, int x);
 
 /// Distances from `vertices` along mesh edges, entering no vertex marked in `block`.
 std::vector<double> distances_from(const Surface& s, const std::vector<char>& block, const std::vector<int>& vertices);
+
+/// The level below which `share` of the area of the triangles marked in `tri` lies under the vertex
+/// function u (each triangle at the mean u of its corners; triangles with a corner at +inf left out).
+double area_level(const Surface& s, const std::vector<double>& u, const std::vector<char>& tri, double share);
+
+/// Each vertex's u as the share of the surface's area below it (triangles at the mean u of their
+/// corners, those with a corner at +inf left out): a field with the level sets of u whose level is
+/// the area it leaves on its lower side, in [0, 1] (+inf where u is).
+std::vector<double> area_quantiles(const Surface& s, const std::vector<double>& u);
+
+/// Where each vertex lies across the annulus that closed curve c leaves when the surface is cut
+/// along it: d0 / (d0 + d1), with d0 and d1 the distances along mesh edges, not crossing c, from
+/// the vertices beside c in its sector 0 and in its sector 1 (sectors()). 0 beside c on one side,
+/// 1 beside it on the other; +inf on c and where neither side is reached. For a non-separating c,
+/// its level sets are closed curves parallel to c, and area_level() of 1/2 is the one that cuts the
+/// annulus in halves of equal area.
+std::vector<double> ratio_across(const Surface& s, const Cycle& c);
 
 /// The pieces cut out by the closed curves `ids`, with the holes of each.
 Cut cut_by(const Builder& b, const std::vector<int>& ids);
