@@ -336,6 +336,8 @@ int run_generate(const GenerateOptions& o) {
         h.handles = o.genus;
         h.resolution = std::max(2, o.resolution);
         h.in_a_row = o.in_a_row;
+        h.bumps = o.bumps;
+        h.seed = o.seed;
         mesh = shapes::body_with_handles(h);
     } else {
         throw InvalidInput("unknown shape '" + o.shape + "' (use sphere, torus, plate, limbs or handles)");

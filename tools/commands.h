@@ -81,7 +81,8 @@ struct GenerateOptions {
                          ///< handles: voxels per cell.
     bool in_a_row = false;  ///< handles only: side by side along one edge.
     int limbs = 4;       ///< limbs only: protrusions.
-    unsigned seed = 1;   ///< limbs only: which figure.
+    unsigned seed = 1;   ///< limbs: which figure; handles: where the bumps go.
+    int bumps = 0;       ///< handles only: bumps and dents on the body.
     std::string output;
 };
 int run_generate(const GenerateOptions& options);

@@ -194,7 +194,12 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(1, 64));
     gen_cmd->add_flag("--in-a-row", gen.in_a_row, "handles: side by side along one edge of the top (genus in one region)");
     gen_cmd->add_option("--limbs", gen.limbs, "limbs: number of limbs (default 4)")->check(CLI::Range(0, 32));
-    gen_cmd->add_option("--seed", gen.seed, "limbs: which figure (default 1)");
+    gen_cmd
+        ->add_option("--bumps", gen.bumps,
+                     "handles: smooth bumps and dents on the body below its top, a body with detail of\n"
+                     "its own (default 0: a plain ball)")
+        ->check(CLI::Range(0, 64));
+    gen_cmd->add_option("--seed", gen.seed, "limbs: which figure; handles: where the bumps go (default 1)");
     gen_cmd->add_option("-o,--output", gen.output, "Output file (.obj or .ply)")->required();
 
     SubdivideOptions sub;

@@ -321,6 +321,8 @@ Mesh body_with_handles(const HandleBodyOptions& o) {
             "body_with_handles: resolution must be in 2..16, got " + std::to_string(o.resolution));
     require(o.smoothing >= 0 && o.smoothing <= 200,
             "body_with_handles: smoothing must be in 0..200, got " + std::to_string(o.smoothing));
+    require(o.bumps >= 0 && o.bumps <= 64,
+            "body_with_handles: bumps must be in 0..64, got " + std::to_string(o.bumps));
     // Handle slots on the top face (z = body, in cells): posts at (x, y) and (x + 2, y), the bar
     // over x..x+2 one cell higher. Spread: a grid of columns 4 cells apart and rows 2 apart, in
     // the middle of the face; in a row: side by side along y at x = 1, 2 cells apart.
@@ -397,6 +399,40 @@ Mesh body_with_handles(const HandleBodyOptions& o) {
             next[v] = mesh.points[v] + (mean - mesh.points[v]) * step;
         }
         mesh.points.swap(next);
+    }
+    if (o.bumps > 0) {
+        // Relief: each point moved along its ray from the centre by a factor 1 + a sum of Gaussian
+        // bumps and dents (height 0.12..0.3 of the radius, width 0.25..0.5 radians) centred on
+        // directions below the top's rim (direction z <= 0.4), faded out towards the top (nothing
+        // at direction z >= 0.75), so the handles on the top stay as they are. The factor stays
+        // positive, so the surface stays embedded.
+        std::mt19937 rng(o.seed);
+        auto uniform = [&] { return (rng() + 0.5) / 4294967296.0; };
+        struct Bump {
+            Vec3 dir;
+            double height, width;
+        };
+        std::vector<Bump> bumps;
+        while (static_cast<int>(bumps.size()) < o.bumps) {
+            const double z = 2 * uniform() - 1, phi = 2 * 3.14159265358979323846 * uniform();
+            const double r = std::sqrt(std::max(0.0, 1 - z * z));
+            const double height = (0.12 + 0.18 * uniform()) * (uniform() < 0.7 ? 1 : -1);
+            const double width = 0.25 + 0.25 * uniform();
+            if (z <= 0.4) bumps.push_back({{r * std::cos(phi), r * std::sin(phi), z}, height, width});
+        }
+        for (Vec3& p : mesh.points) {
+            const Vec3 q = p - centre;
+            const double len = norm(q);
+            if (!(len > 0)) continue;
+            const Vec3 d = q / len;
+            const double fade = std::clamp((0.75 - d.z) / 0.25, 0.0, 1.0);
+            double factor = 1;
+            for (const Bump& b : bumps) {
+                const double angle = std::acos(std::clamp(dot(d, b.dir), -1.0, 1.0));
+                factor += fade * b.height * std::exp(-0.5 * (angle / b.width) * (angle / b.width));
+            }
+            if (factor != 1) p = centre + q * std::max(factor, 0.3);
+        }
     }
     return mesh;
 }

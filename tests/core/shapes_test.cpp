@@ -528,5 +528,38 @@ TEST(ShapesHandles, ClosedManifoldOfTheGenusAskedDeterministicBigBodySmallHandle
     EXPECT_THROW(shapes::body_with_handles(bad), InvalidInput);
 }
 
+// With bumps the body has relief of its own (issue #20's genus-1 figure, whose body carries the
+// detail): still closed, manifold, of the genus asked and the same for the same seed; the relief
+// changes the body below the top and leaves the handles on the top where they were.
+TEST(ShapesHandles, BumpsGiveTheBodyReliefAndKeepTheHandles) {
+    shapes::HandleBodyOptions plain;
+    plain.handles = 1;
+    plain.resolution = 2;
+    const Mesh ball = shapes::body_with_handles(plain);
+    for (unsigned seed : {1u, 2u, 3u}) {
+        shapes::HandleBodyOptions o = plain;
+        o.bumps = 12;
+        o.seed = seed;
+        const Mesh m = shapes::body_with_handles(o);
+        const ValidationReport r = validate(m);
+        ASSERT_TRUE(r.quaddable()) << r.error_summary();
+        EXPECT_EQ(r.components[0].genus, 1);
+        EXPECT_EQ(shapes::body_with_handles(o).points, m.points);
+        ASSERT_EQ(m.points.size(), ball.points.size());  // the same voxels, moved
+        double moved = 0, top_moved = 0;
+        const double top = bounding_box(ball).max.z;
+        for (size_t v = 0; v < m.points.size(); ++v) {
+            const double d = norm(m.points[v] - ball.points[v]);
+            moved = std::max(moved, d);
+            if (ball.points[v].z > top - 1.0) top_moved = std::max(top_moved, d);  // the handles' cell
+        }
+        EXPECT_GT(moved, 0.5) << "seed " << seed;
+        EXPECT_EQ(top_moved, 0.0) << "seed " << seed;
+    }
+    shapes::HandleBodyOptions bad = plain;
+    bad.bumps = 65;
+    EXPECT_THROW(shapes::body_with_handles(bad), InvalidInput);
+}
+
 }  // namespace
 }  // namespace quadcage

@@ -4,7 +4,8 @@
 # max/min, corner angle deviation on edge chords at 10% of their length) and check_fit.py (relative
 # RMS and Hausdorff of limit.ply). Classes:
 #   - long protrusions: `generate limbs` (genus 0, a cube over a figure with limbs);
-#   - a big smooth body with a few small handles: `generate handles -g G`;
+#   - a big smooth body with a few small handles: `generate handles -g G`; with relief of its own
+#     (a figure's body with one small handle): `generate handles -g 1 --bumps 12`;
 #   - genus concentrated in one region: `generate handles -g G --in-a-row`.
 # Fit level 3, level 4 for genus 0 and 1 (6- and 4-quad cages). Issue 20's targets on every row:
 # area max/min <= 4, fit RMS <= 1e-3 and Hausdorff <= 1e-2. The script reports; it asserts nothing.
@@ -22,6 +23,7 @@ cases=(
   "limbs seed 1|limbs --limbs 4 --seed 1 -r 4"
   "limbs seed 20|limbs --limbs 5 --seed 20 -r 4"
   "handles g1|handles -g 1 -r 3"
+  "handles g1 bumps|handles -g 1 -r 3 --bumps 12"
   "handles g2|handles -g 2 -r 3"
   "handles g3|handles -g 3 -r 3"
   "handles g3 in a row|handles -g 3 -r 3 --in-a-row"

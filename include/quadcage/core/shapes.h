@@ -98,6 +98,9 @@ struct HandleBodyOptions {
                               ///< where the handles need more room.
     int resolution = 3;       ///< Voxels per cell, 2..16.
     int smoothing = 12;       ///< Taubin smoothing passes (lambda 0.5, mu -0.53) that round the voxels, 0..200.
+    int bumps = 0;            ///< Smooth bumps and dents on the body away from its top, 0..64: a body
+                              ///< with detail of its own (a figure's head, limbs), not a plain ball.
+    unsigned seed = 1;        ///< With bumps: chooses their places, sizes and signs.
 };
 
 /// A big smooth body with small handles, the shape class whose minimal layouts crowd their corners
