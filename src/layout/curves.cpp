@@ -366,10 +366,11 @@ double Builder::edge_cost(const std::function<double(int)>& cost, int a, int b) 
 std::vector<int> Builder::sector_path(int x, const std::vector<int>& from_sector, int y,
                                       const std::vector<int>& to_sector, const std::vector<char>& block,
                                       const std::function<double(int)>& cost, double* total,
-                                      std::vector<char>* reached) const {
+                                      std::vector<char>* reached, double bound) const {
     PathSearch q;
     q.blocked = &block;
     q.cost = cost;
+    q.max_distance = bound;
     for (int n : from_sector)
         if (!block[n]) q.sources.push_back({n, edge_cost(cost, x, n)});
     for (int n : to_sector)

@@ -122,28 +122,31 @@ std::vector<int> farthest_point_samples(const Mesh& mesh, int k) {
     return picks;
 }
 
-// Homology class of the tree path from the search's source to every reached vertex.
-std::vector<Class> path_classes(const Surface& s, const PathResult& r, const std::vector<Class>& mask) {
-    const int n = s.num_vertices();
-    std::vector<Class> H(n);
-    std::vector<char> known(n, 0);
+// Homology class of the tree path from the search's source to every reached vertex (`reached`:
+// the vertices the search settled). Only the reached vertices' entries of *H are written; `known`
+// is all 0 on entry and left so.
+void path_classes(const Surface& s, const PathResult& r, const std::vector<Class>& mask,
+                  const std::vector<int>& reached, std::vector<Class>* H, std::vector<char>* known) {
     std::vector<int> stack;
-    for (int v = 0; v < n; ++v) {
-        if (known[v] || r.distance[v] == kInf) continue;
+    std::vector<Class>& cls = *H;
+    std::vector<char>& kn = *known;
+    for (int v : reached) {
+        if (kn[v]) continue;
         int u = v;
-        while (!known[u] && r.parent_half_edge[u] >= 0) {
+        while (!kn[u] && r.parent_half_edge[u] >= 0) {
             stack.push_back(u);
             u = s.from(r.parent_half_edge[u]);
         }
-        known[u] = 1;  // a source (class 0) or already known
+        if (!kn[u]) cls[u] = Class();  // a source: class 0
+        kn[u] = 1;
         while (!stack.empty()) {
             const int w = stack.back();
             stack.pop_back();
-            H[w] = H[s.from(r.parent_half_edge[w])] ^ mask[r.parent_half_edge[w]];
-            known[w] = 1;
+            cls[w] = cls[s.from(r.parent_half_edge[w])] ^ mask[r.parent_half_edge[w]];
+            kn[w] = 1;
         }
     }
-    return H;
+    for (int v : reached) kn[v] = 0;
 }
 
 // The loop closed by non-tree half-edge h in a shortest-path tree, trimmed at the lowest common
@@ -170,34 +173,54 @@ std::vector<Cycle> independent_loops(Builder& b, int genus, std::vector<double>*
     Span span;
     std::vector<Cycle> loops;
     std::vector<char> block(b.s_.num_vertices(), 0);
+    const int n = b.s_.num_vertices();
+    std::vector<Class> H(n);
+    std::vector<char> known(n, 0);
+    std::vector<int> reached;
     for (int i = 0; i < genus; ++i) {
         double best = kInf;
-        int best_root = -1, best_h = -1;
+        int best_h = -1;
+        PathResult best_r;  // the search from best_root (its tree holds the loop)
         for (int root : roots) {
             if (block[root]) continue;
             PathSearch q;
             q.sources = {{root, 0.0}};
             q.blocked = &block;
             q.max_distance = 0.5 * best;  // a shorter loop through the root stays within this radius
-            const PathResult r = detail::dijkstra(b.s_, q);
-            const std::vector<Class> H = path_classes(b.s_, r, mask);
-            for (int h = 0; h < b.s_.num_half_edges(); ++h) {
-                const int u = b.s_.from(h), v = b.s_.to(h);
-                if (u > v || r.distance[u] == kInf || r.distance[v] == kInf) continue;
-                if (r.parent_half_edge[v] == h || r.parent_half_edge[u] == b.s_.twin(h)) continue;
-                const double len = r.distance[u] + r.distance[v] + b.s_.length(h);
-                if (len >= best) continue;
-                if (span.contains(H[u] ^ H[v] ^ mask[h])) continue;
-                best = len;
-                best_root = root;
-                best_h = h;
+            PathResult r = detail::dijkstra(b.s_, q);
+            reached.clear();
+            for (int v = 0; v < n; ++v)
+                if (r.distance[v] != kInf) reached.push_back(v);
+            path_classes(b.s_, r, mask, reached, &H, &known);
+            // The non-tree edges u-v (u < v) between reached vertices: the least (len, h) that closes
+            // a loop shorter than the best so far outside the span (the first such h in index order).
+            int root_h = -1;
+            for (int u : reached) {
+                const int h0 = b.s_.out_half_edge(u);
+                int h = h0;
+                do {
+                    const int v = b.s_.to(h);
+                    if (u < v && r.distance[v] != kInf && r.parent_half_edge[v] != h &&
+                        r.parent_half_edge[u] != b.s_.twin(h)) {
+                        const double len = r.distance[u] + r.distance[v] + b.s_.length(h);
+                        if ((len < best || (len == best && root_h >= 0 && h < root_h)) &&
+                            !span.contains(H[u] ^ H[v] ^ mask[h])) {
+                            best = len;
+                            root_h = h;
+                        }
+                    }
+                    h = b.s_.rotate(h);
+                } while (h != h0);
+            }
+            if (root_h >= 0) {
+                best_h = root_h;
+                best_r = std::move(r);
             }
         }
         QC_CHECK(best_h >= 0, "no non-separating loop found for handle " + std::to_string(i + 1));
-        PathSearch q;
-        q.sources = {{best_root, 0.0}};
-        q.blocked = &block;
-        const PathResult r = detail::dijkstra(b.s_, q);
+        // best_r settled every vertex of the loop (and their tree paths) as a search without the
+        // radius would: the same tree there.
+        const PathResult& r = best_r;
         const Cycle loop = loop_through(b.s_, r, best_h);
         Class c;
         for (size_t k = 0; k < loop.size(); ++k)
@@ -317,7 +340,8 @@ Chain build_chain(Builder b, const std::vector<Cycle>& loops, const std::vector<
             const auto [p, n] = neighbours_on(a, x);
             const auto sec = sectors(b.s_, x, p, n);
             double total = kInf;
-            std::vector<int> path = b.sector_path(x, sec[0], x, sec[1], block, cost, &total);
+            // Bounded by the best so far: a search that passes it could only find a longer path.
+            std::vector<int> path = b.sector_path(x, sec[0], x, sec[1], block, cost, &total, nullptr, best);
             if (path.empty() || total >= best) continue;
             best = total;
             best_b = {x};

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <unordered_set>
 #include <utility>
@@ -165,11 +166,14 @@ public:
 
     /// Shortest path leaving x through `from_sector` and reaching y through `to_sector` (vertices
     /// of the sectors that are not blocked). Returns the interior vertices, or empty; then
-    /// `reached` (if given) marks the vertices the search settled.
+    /// `reached` (if given) marks the vertices the search settled. A path whose search must settle
+    /// a vertex farther than `bound` (so every path of cost above `bound`, some of cost `bound`) may
+    /// be missed: a caller that only wants paths cheaper than `bound` gets the same answer sooner.
     std::vector<int> sector_path(int x, const std::vector<int>& from_sector, int y,
                                  const std::vector<int>& to_sector, const std::vector<char>& block,
                                  const std::function<double(int)>& cost, double* total,
-                                 std::vector<char>* reached = nullptr) const;
+                                 std::vector<char>* reached = nullptr,
+                                 double bound = std::numeric_limits<double>::infinity()) const;
 };
 
 }  // namespace quadcage::layout::detail
