@@ -235,6 +235,45 @@ private:
     const PathSearch& q_;
 };
 
+// A 4-ary min-heap on (distance, vertex) pairs, in `a`. The pairs are totally ordered and a search
+// never pushes one pair twice, so they leave in one order whatever the heap's shape: the order
+// std::priority_queue gives, with half the levels to sift through.
+using HeapItem = std::pair<double, int>;
+
+inline void heap_push(std::vector<HeapItem>& a, const HeapItem& item) {
+    size_t i = a.size();
+    a.push_back(item);
+    while (i > 0) {
+        const size_t p = (i - 1) / 4;
+        if (!(item < a[p])) break;
+        a[i] = a[p];
+        i = p;
+    }
+    a[i] = item;
+}
+
+inline HeapItem heap_pop(std::vector<HeapItem>& a) {
+    const HeapItem top = a[0];
+    const HeapItem last = a.back();
+    a.pop_back();
+    const size_t n = a.size();
+    if (n == 0) return top;
+    size_t i = 0;
+    for (;;) {
+        const size_t c = 4 * i + 1;
+        if (c >= n) break;
+        size_t m = c;
+        const size_t end = std::min(c + 4, n);
+        for (size_t k = c + 1; k < end; ++k)
+            if (a[k] < a[m]) m = k;
+        if (!(a[m] < last)) break;
+        a[i] = a[m];
+        i = m;
+    }
+    a[i] = last;
+    return top;
+}
+
 template <class Cost>
 PathResult run_dijkstra(const Surface& s, const PathSearch& q, const Cost& cost) {
     const int n = s.num_vertices();
@@ -248,16 +287,12 @@ PathResult run_dijkstra(const Surface& s, const PathSearch& q, const Cost& cost)
     std::vector<double>& arrival = w.arrival;
     std::vector<char>& done = w.done;
     for (auto [v, c] : q.targets) arrival[v] = std::min(arrival[v], c);
-    // A binary heap on (distance, vertex), as std::priority_queue with std::greater: the pairs are
-    // totally ordered, so they leave in the same order whatever the heap's layout.
-    using Item = std::pair<double, int>;
-    std::vector<Item>& heap = w.heap;
-    const auto later = std::greater<Item>();
+    // A heap on (distance, vertex) (heap_push, heap_pop).
+    std::vector<HeapItem>& heap = w.heap;
     for (auto [v, c] : q.sources)
         if (c < r.distance[v]) {
             r.distance[v] = c;
-            heap.push_back({c, v});
-            std::push_heap(heap.begin(), heap.end(), later);
+            heap_push(heap, {c, v});
         }
     double best = inf;
     const bool settle = !q.settle.empty();
@@ -269,9 +304,7 @@ PathResult run_dijkstra(const Surface& s, const PathSearch& q, const Cost& cost)
         }
     std::vector<int>& reached = w.reached;
     while (!heap.empty()) {
-        const auto [d, v] = heap.front();
-        std::pop_heap(heap.begin(), heap.end(), later);
-        heap.pop_back();
+        const auto [d, v] = heap_pop(heap);
         if (done[v]) continue;
         if (d > q.max_distance) break;  // everything left is farther
         done[v] = 1;
@@ -291,8 +324,7 @@ PathResult run_dijkstra(const Surface& s, const PathSearch& q, const Cost& cost)
                     if (r.distance[x] == inf) reached.push_back(x);
                     r.distance[x] = nd;
                     r.parent_half_edge[x] = h;
-                    heap.push_back({nd, x});
-                    std::push_heap(heap.begin(), heap.end(), later);
+                    heap_push(heap, {nd, x});
                 }
             }
             h = s.rotate(h);
