@@ -6,6 +6,7 @@
 #include <cmath>
 #include <functional>
 #include <iterator>
+#include <limits>
 #include <numeric>
 
 #include "detail/patches.h"
@@ -19,16 +20,37 @@ namespace {
 // in each of the `cols` columns. A vertex may so have several ids (a star whose boundary meets
 // itself). Clamped cotangent weights: positive, so the system is SPD and, on a convex boundary, a
 // Tutte embedding. False if the factorisation fails.
-bool harmonic_extension(const Mesh& mesh, const std::vector<int>& tris, const std::vector<int>& slot, int m,
-                        int cols, const std::function<double(int, int)>& fixed, Eigen::MatrixXd* x) {
+// The clamped cotangent weight of each half-edge, computed when first asked for: a relaxation pass
+// solves on overlapping regions of one surface (each patch in several), which share them.
+class CotangentWeights {
+public:
+    explicit CotangentWeights(const Mesh& mesh)
+        : mesh_(mesh),
+          w_(3 * static_cast<size_t>(mesh.num_triangles()), std::numeric_limits<double>::quiet_NaN()) {}
+    /// max(half_cotangent(corner k, corner k+1, corner k+2 of triangle t), 0.025).
+    double operator()(int t, int k) {
+        double& w = w_[3 * static_cast<size_t>(t) + k];
+        if (std::isnan(w)) {
+            const Triangle& tri = mesh_.triangles[t];
+            w = std::max(half_cotangent(mesh_, tri[k], tri[(k + 1) % 3], tri[(k + 2) % 3]), 0.025);
+        }
+        return w;
+    }
+
+private:
+    const Mesh& mesh_;
+    std::vector<double> w_;
+};
+
+bool harmonic_extension(const Mesh& mesh, CotangentWeights& weight, const std::vector<int>& tris,
+                        const std::vector<int>& slot, int m, int cols,
+                        const std::function<double(int, int)>& fixed, Eigen::MatrixXd* x) {
     std::vector<Eigen::Triplet<double>> entries;
     Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(m, cols);
     Eigen::VectorXd diagonal = Eigen::VectorXd::Zero(m);
     for (size_t f = 0; f < tris.size(); ++f) {
-        const Triangle& tri = mesh.triangles[tris[f]];
         for (int k = 0; k < 3; ++k) {
-            const int i = tri[k], j = tri[(k + 1) % 3];
-            const double w = std::max(half_cotangent(mesh, i, j, tri[(k + 2) % 3]), 0.025);
+            const double w = weight(tris[f], k);
             const int li = slot[3 * f + k], lj = slot[3 * f + (k + 1) % 3];
             const bool fi = li < m, fj = lj < m;
             if (fi) diagonal[li] += w;
@@ -205,6 +227,7 @@ int relax_layout_edges(const Surface& s, std::vector<std::vector<int>>* paths, c
     const int n = s.num_vertices(), nt = mesh.num_triangles();
     Network net(s, *paths);
     auto& [cut, label, patch_tris, on_paths] = net;
+    CotangentWeights weight(mesh);
 
     std::vector<char> in_region(nt, 0);
     std::vector<int> local(n, -1);
@@ -262,7 +285,8 @@ int relax_layout_edges(const Surface& s, std::vector<std::vector<int>>* paths, c
                 for (int t : tris)
                     for (int v : mesh.triangles[t]) slot.push_back(local[v] >= 0 ? local[v] : m - 2 - local[v]);
                 Eigen::MatrixXd x;
-                if (harmonic_extension(mesh, tris, slot, m, 1, [&](int b, int) { return h[boundary[b]]; }, &x)) {
+                if (harmonic_extension(
+                        mesh, weight, tris, slot, m, 1, [&](int b, int) { return h[boundary[b]]; }, &x)) {
                     for (int i = 0; i < m; ++i) h[interior[i]] = x(i, 0);
                     // Shortest path c0 -> c1 through interior vertices, cheapest near h = 1/2.
                     for (int v : interior) blocked[v] = 0;
@@ -319,6 +343,7 @@ int relax_layout_corners(const Surface& s, std::vector<int>* corners, std::vecto
     auto& [cut, label, patch_tris, on_paths] = net;
     std::vector<char> is_corner(n, 0);
     for (int c : *corners) is_corner[c] = 1;
+    CotangentWeights weight(mesh);
 
     // Scratch, reset after each corner.
     std::vector<char> on_spoke(n, 0), blocked(n, 1);
@@ -469,7 +494,9 @@ int relax_layout_corners(const Surface& s, std::vector<int>* corners, std::vecto
                 (j % 2 == 0 ? ends_in_order : diagonals).push_back(ring[i0]);
             }
             Eigen::MatrixXd x;
-            if (harmonic_extension(mesh, tris, slot, m, 2, [&](int b, int col) { return boundary_uv[b][col]; }, &x)) {
+            if (harmonic_extension(
+                    mesh, weight, tris, slot, m, 2, [&](int b, int col) { return boundary_uv[b][col]; },
+                    &x)) {
                 for (int i = 0; i < m; ++i) free_uv[i] = {x(i, 0), x(i, 1)};
                 // Halfway from the centre of the map (which keeps the patches' shapes) to the point
                 // that splits the area evenly.

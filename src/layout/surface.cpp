@@ -295,7 +295,7 @@ PathResult run_dijkstra(const Surface& s, const PathSearch& q, const Cost& cost)
             heap_push(heap, {c, v});
         }
     double best = inf;
-    const bool settle = !q.settle.empty();
+    const bool settle = !q.settle.empty(), has_targets = !q.targets.empty();
     size_t still_wanted = 0;
     for (int v : q.settle)
         if (!w.wanted[v]) {
@@ -309,10 +309,12 @@ PathResult run_dijkstra(const Surface& s, const PathSearch& q, const Cost& cost)
         if (d > q.max_distance) break;  // everything left is farther
         done[v] = 1;
         if (settle && w.wanted[v] && --still_wanted == 0) break;
-        if (!q.targets.empty() && d >= best) break;
-        if (arrival[v] < inf && d + arrival[v] < best) {
-            best = d + arrival[v];
-            r.target = v;
+        if (has_targets) {  // else arrival is +inf everywhere
+            if (d >= best) break;
+            if (arrival[v] < inf && d + arrival[v] < best) {
+                best = d + arrival[v];
+                r.target = v;
+            }
         }
         const int h0 = s.out_half_edge(v);
         int h = h0;
