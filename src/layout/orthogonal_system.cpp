@@ -484,7 +484,15 @@ double cycle_length(const Mesh& mesh, const Cycle& c) {
 
 OrthogonalSystem build_orthogonal_system(const Mesh& mesh, const OrthogonalSystemOptions& options) {
     if (const std::string e = options.validate(); !e.empty()) throw InvalidInput("orthogonal system options: " + e);
-    const ValidationReport report = validate(mesh);
+    return detail::build_orthogonal_system_validated(mesh, options, validate(mesh));
+}
+
+namespace detail {
+
+OrthogonalSystem build_orthogonal_system_validated(const Mesh& mesh, const OrthogonalSystemOptions& options,
+                                                   const ValidationReport& report) {
+    if (const std::string e = options.validate(); !e.empty())
+        throw InvalidInput("orthogonal system options: " + e);
     if (!report.quaddable() || report.components.size() != 1)
         throw InvalidInput("build_orthogonal_system needs one closed, manifold, orientable component: " +
                            (report.components.size() > 1 ? std::string("the mesh has ") +
@@ -543,6 +551,8 @@ OrthogonalSystem build_orthogonal_system(const Mesh& mesh, const OrthogonalSyste
     QC_CHECK(problem.empty(), "the orthogonal system fails its own check: " + problem);
     return out;
 }
+
+}  // namespace detail
 
 std::string verify_orthogonal_system(const Mesh& mesh, const std::vector<Cycle>& cycles) {
     const ValidationReport r = validate(mesh);

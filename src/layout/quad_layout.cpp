@@ -175,9 +175,11 @@ Cycles build_cycles(const Mesh& input, const QuadLayoutOptions& options) {
     // edge relaxation of a genus-3 plate worse balanced (patch area max/min 3.8 -> 4.9).
     const int genus = report.components[0].genus;
     Mesh mesh = input;
-    while (mesh.num_vertices() < 1000 + 200 * genus) mesh = subdivide_midpoint(mesh);
-    // Builds the cycles (none for a sphere).
-    c.system = build_orthogonal_system(mesh, c.options);
+    bool refined = false;
+    while (mesh.num_vertices() < 1000 + 200 * genus) mesh = subdivide_midpoint(mesh), refined = true;
+    // Builds the cycles (none for a sphere); the input's report serves an unrefined mesh.
+    c.system = refined ? build_orthogonal_system(mesh, c.options)
+                       : detail::build_orthogonal_system_validated(mesh, c.options, report);
     c.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return c;
 }

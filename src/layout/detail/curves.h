@@ -16,6 +16,7 @@
 
 #include "detail/surface.h"
 #include "quadcage/core/errors.h"
+#include "quadcage/core/validate.h"
 #include "quadcage/layout/orthogonal_system.h"
 
 namespace quadcage::layout::detail {
@@ -63,6 +64,10 @@ struct NearCost {
 /// `cost` (from Builder::cost_near()) remembering each half-edge's cost once computed; any other
 /// cost unchanged. The same costs, computed once for searches that share them.
 std::function<double(int)> memoised(const std::function<double(int)>& cost);
+
+/// build_orthogonal_system() for a mesh whose validate() report is known.
+OrthogonalSystem build_orthogonal_system_validated(const Mesh& mesh, const OrthogonalSystemOptions& options,
+                                                   const ValidationReport& report);
 
 /// Thrown when a Builder's splits pass its vertex budget (Builder::max_vertices_): the layout being
 /// built is abandoned, not retried.
