@@ -10,6 +10,7 @@
 #include <numeric>
 
 #include "detail/patches.h"
+#include "detail/search.h"
 
 namespace quadcage::layout::detail {
 
@@ -295,13 +296,13 @@ int relax_layout_edges(const Surface& s, std::vector<std::vector<int>>* paths, c
                     q.sources = {{c0, 0.0}};
                     q.targets = {{c1, 0.0}};
                     q.blocked = &blocked;
-                    q.cost = [&](int he) {
+                    const auto cost = [&](int he) {
                         const int a = s.from(he), b = s.to(he);
                         if (a == c0 && b == c1) return std::numeric_limits<double>::infinity();
                         const double da = 2 * h[a] - 1, db = 2 * h[b] - 1;
                         return s.length(he) * (1 + options.middle * 0.5 * (da * da + db * db));
                     };
-                    const PathResult r = dijkstra(s, q);
+                    const PathResult r = dijkstra_with(s, q, cost);
                     if (r.target == c1) new_path = r.path_to(s, c1);
                     for (int v : interior) blocked[v] = 1;
                     blocked[c1] = 1;
@@ -553,13 +554,13 @@ int relax_layout_corners(const Surface& s, std::vector<int>* corners, std::vecto
                 q.sources = {{first[k], 0.0}};
                 q.targets = {{end, 0.0}};
                 q.blocked = &blocked;
-                q.cost = [&](int he) {
+                const auto cost = [&](int he) {
                     const int i = tri_index[he / 3], to = s.to(he);
                     if (i < 0 || (to == end && slot[3 * i + (he % 3 + 1) % 3] != m + e)) return inf;
                     return s.length(he) * (1 + options.ray * 0.5 * (off_ray(s.from(he)) + off_ray(to)));
                 };
                 blocked[end] = 0;
-                const PathResult r = dijkstra(s, q);
+                const PathResult r = dijkstra_with(s, q, cost);
                 blocked[end] = 1;
                 if (r.target != end) break;
                 std::vector<int> route{nc};

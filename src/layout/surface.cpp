@@ -7,6 +7,7 @@
 #include <unordered_map>
 
 #include "detail/curves.h"
+#include "detail/search.h"
 #include "quadcage/core/errors.h"
 
 namespace quadcage::layout::detail {
@@ -195,160 +196,12 @@ std::vector<int> PathResult::path_to(const Surface& s, int v) const {
     return path;
 }
 
-namespace {
-
-// Per-thread arrays of the searches, sized to the largest surface searched so far and left clean
-// (arrival +inf, flags 0) after each search: a search that settles a few hundred vertices of a
-// large surface then costs no pass over all of them. The layout runs thousands of such searches
-// (around one corner, along one edge), and the orthogonal system's two directions run in threads.
-struct SearchScratch {
-    std::vector<double> arrival;
-    std::vector<char> done, wanted;
-    std::vector<int> reached;  // vertices given a distance, each once
-    std::vector<std::pair<double, int>> heap;
-
-    void reserve(int n) {
-        if (static_cast<int>(done.size()) >= n) return;
-        arrival.resize(n, std::numeric_limits<double>::infinity());
-        done.resize(n, 0);
-        wanted.resize(n, 0);
-    }
-};
-
-// Puts a search's scratch back as it found it, also when the search throws.
-class ScratchGuard {
-public:
-    ScratchGuard(SearchScratch& w, const PathSearch& q) : w_(w), q_(q) {}
-    ScratchGuard(const ScratchGuard&) = delete;
-    ScratchGuard& operator=(const ScratchGuard&) = delete;
-    ~ScratchGuard() {
-        for (int v : w_.reached) w_.done[v] = 0;
-        for (const auto& [v, c] : q_.sources) w_.done[v] = 0;
-        for (const auto& [v, c] : q_.targets) w_.arrival[v] = std::numeric_limits<double>::infinity();
-        for (int v : q_.settle) w_.wanted[v] = 0;
-        w_.reached.clear();
-        w_.heap.clear();
-    }
-
-private:
-    SearchScratch& w_;
-    const PathSearch& q_;
-};
-
-// A 4-ary min-heap on (distance, vertex) pairs, in `a`. The pairs are totally ordered and a search
-// never pushes one pair twice, so they leave in one order whatever the heap's shape: the order
-// std::priority_queue gives, with half the levels to sift through.
-using HeapItem = std::pair<double, int>;
-
-inline void heap_push(std::vector<HeapItem>& a, const HeapItem& item) {
-    size_t i = a.size();
-    a.push_back(item);
-    while (i > 0) {
-        const size_t p = (i - 1) / 4;
-        if (!(item < a[p])) break;
-        a[i] = a[p];
-        i = p;
-    }
-    a[i] = item;
-}
-
-inline HeapItem heap_pop(std::vector<HeapItem>& a) {
-    const HeapItem top = a[0];
-    const HeapItem last = a.back();
-    a.pop_back();
-    const size_t n = a.size();
-    if (n == 0) return top;
-    size_t i = 0;
-    for (;;) {
-        const size_t c = 4 * i + 1;
-        if (c >= n) break;
-        size_t m = c;
-        const size_t end = std::min(c + 4, n);
-        for (size_t k = c + 1; k < end; ++k)
-            if (a[k] < a[m]) m = k;
-        if (!(a[m] < last)) break;
-        a[i] = a[m];
-        i = m;
-    }
-    a[i] = last;
-    return top;
-}
-
-template <class Cost>
-PathResult run_dijkstra(const Surface& s, const PathSearch& q, const Cost& cost) {
-    const int n = s.num_vertices();
-    const double inf = std::numeric_limits<double>::infinity();
-    thread_local SearchScratch w;
-    w.reserve(n);
-    const ScratchGuard guard(w, q);
-    PathResult r;
-    r.distance.assign(n, inf);
-    r.parent_half_edge.assign(n, -1);
-    std::vector<double>& arrival = w.arrival;
-    std::vector<char>& done = w.done;
-    for (auto [v, c] : q.targets) arrival[v] = std::min(arrival[v], c);
-    // A heap on (distance, vertex) (heap_push, heap_pop).
-    std::vector<HeapItem>& heap = w.heap;
-    for (auto [v, c] : q.sources)
-        if (c < r.distance[v]) {
-            r.distance[v] = c;
-            heap_push(heap, {c, v});
-        }
-    double best = inf;
-    const bool settle = !q.settle.empty(), has_targets = !q.targets.empty();
-    size_t still_wanted = 0;
-    for (int v : q.settle)
-        if (!w.wanted[v]) {
-            w.wanted[v] = 1;
-            ++still_wanted;
-        }
-    std::vector<int>& reached = w.reached;
-    while (!heap.empty()) {
-        const auto [d, v] = heap_pop(heap);
-        if (done[v]) continue;
-        if (d > q.max_distance) break;  // everything left is farther
-        done[v] = 1;
-        if (settle && w.wanted[v] && --still_wanted == 0) break;
-        if (has_targets) {  // else arrival is +inf everywhere
-            if (d >= best) break;
-            if (arrival[v] < inf && d + arrival[v] < best) {
-                best = d + arrival[v];
-                r.target = v;
-            }
-        }
-        const int h0 = s.out_half_edge(v);
-        int h = h0;
-        do {
-            const int x = s.to(h);
-            if (!done[x] && !(q.blocked && (*q.blocked)[x])) {
-                const double nd = d + cost(h);
-                if (nd < r.distance[x]) {
-                    if (r.distance[x] == inf) reached.push_back(x);
-                    r.distance[x] = nd;
-                    r.parent_half_edge[x] = h;
-                    heap_push(heap, {nd, x});
-                }
-            }
-            h = s.rotate(h);
-        } while (h != h0);
-    }
-    // A search stopped early leaves tentative distances behind: only settled vertices count.
-    for (const auto& [v, c] : q.sources)
-        if (!done[v]) r.distance[v] = inf;
-    for (int x : reached)
-        if (!done[x]) r.distance[x] = inf;
-    r.target_cost = best;
-    return r;
-}
-
-}  // namespace
-
 PathResult dijkstra(const Surface& s, const PathSearch& q) {
     // The cost of most searches is Builder::cost_near()'s: called directly, not through
     // std::function, it is inlined into the search's inner loop.
-    if (!q.cost) return run_dijkstra(s, q, [&s](int h) { return s.length(h); });
-    if (const NearCost* near = q.cost.target<NearCost>()) return run_dijkstra(s, q, *near);
-    return run_dijkstra(s, q, q.cost);
+    if (!q.cost) return search::run_dijkstra(s, q, [&s](int h) { return s.length(h); });
+    if (const NearCost* near = q.cost.target<NearCost>()) return search::run_dijkstra(s, q, *near);
+    return search::run_dijkstra(s, q, q.cost);
 }
 
 void lower_distances(const Surface& s, const std::vector<int>& sources, const std::vector<char>* blocked,
