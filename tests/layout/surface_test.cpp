@@ -6,9 +6,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
+#include <queue>
+#include <random>
 #include <stdexcept>
 
+#include "detail/search.h"
 #include "quadcage/core/shapes.h"
 
 namespace quadcage::layout::detail {
@@ -172,6 +176,54 @@ TEST(LayoutSurface, DijkstraSearchesLeaveNoTraceOnTheNext) {
     const PathResult after = dijkstra(s, full);
     EXPECT_EQ(after.distance, before.distance);
     EXPECT_EQ(after.parent_half_edge, before.parent_half_edge);
+}
+
+// The search's 4-ary heap gives its (distance, vertex) pairs in the order std::priority_queue does
+// (smallest first), pushes and pops interleaved, ties in distance broken by the vertex.
+TEST(LayoutSurface, SearchHeapPopsInPriorityQueueOrder) {
+    std::mt19937 rng(7);
+    std::uniform_int_distribution<int> coin(0, 2), vertex(0, 999), level(0, 40);
+    using Item = search::HeapItem;
+    std::vector<Item> heap;
+    std::priority_queue<Item, std::vector<Item>, std::greater<Item>> reference;
+    int pushes = 0, pops = 0;
+    for (int step = 0; step < 20000; ++step) {
+        if (reference.empty() || coin(rng) > 0) {
+            const Item item{0.125 * level(rng), vertex(rng) + 1000 * step};  // distinct pairs
+            search::heap_push(heap, item);
+            reference.push(item);
+            ++pushes;
+        } else {
+            ASSERT_EQ(search::heap_pop(heap), reference.top()) << "pop " << pops;
+            reference.pop();
+            ++pops;
+        }
+        ASSERT_EQ(heap.size(), reference.size());
+    }
+    while (!reference.empty()) {
+        ASSERT_EQ(search::heap_pop(heap), reference.top());
+        reference.pop();
+    }
+    EXPECT_TRUE(heap.empty());
+    EXPECT_GT(pops, 1000);
+    EXPECT_GT(pushes, pops);
+}
+
+// dijkstra_with() with a cost lambda is dijkstra() with the same cost as PathSearch::cost: the
+// same distances and the same tree, to the last bit.
+TEST(LayoutSurface, DijkstraWithACostLambdaIsDijkstraWithThatCost) {
+    const Surface s(shapes::icosphere(4));
+    const auto cost = [&s](int h) { return s.length(h) * (1.5 + s.point(s.to(h)).z); };
+    PathSearch q;
+    q.sources = {{0, 0.0}, {17, 0.1}};
+    q.cost = cost;
+    const PathResult a = dijkstra(s, q);
+    const PathResult b = dijkstra_with(s, q, cost);
+    EXPECT_EQ(a.distance, b.distance);
+    EXPECT_EQ(a.parent_half_edge, b.parent_half_edge);
+    q.targets = {{s.num_vertices() - 1, 0.0}};
+    EXPECT_EQ(dijkstra(s, q).target, dijkstra_with(s, q, cost).target);
+    EXPECT_EQ(dijkstra(s, q).target_cost, dijkstra_with(s, q, cost).target_cost);
 }
 
 // lower_distances() adds sources to a distance field: the result is the field of all the sources
