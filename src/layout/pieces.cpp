@@ -6,12 +6,14 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <numeric>
 #include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "detail/curves.h"
+#include "detail/harmonic.h"
 #include "detail/patches.h"
 #include "detail/stages.h"
 #include "detail/surface.h"
@@ -156,26 +158,56 @@ std::vector<double> area_quantiles(const Surface& s, const std::vector<double>& 
     return q;
 }
 
-std::vector<double> ratio_across(const Surface& s, const Cycle& c) {
+std::vector<double> harmonic_across(const Surface& s, const Cycle& c) {
     const size_t n = c.size();
-    QC_CHECK(n >= 3, "ratio_across: a closed curve of fewer than 3 vertices");
-    std::vector<char> on_c(s.num_vertices(), 0);
-    for (int v : c) on_c[v] = 1;
-    std::array<std::vector<int>, 2> beside;
+    QC_CHECK(n >= 3, "harmonic_across: a closed curve of fewer than 3 vertices");
+    const Mesh& mesh = s.mesh();
+    const int nv = s.num_vertices(), nt = mesh.num_triangles();
+    std::vector<int> local(nv, -1);
+    for (int v : c) local[v] = -2;  // on c
+    int m = 0;
+    for (int v = 0; v < nv; ++v)
+        if (local[v] == -1) local[v] = m++;
+    // Each corner's id: its unknown, or for a corner on c, m + the side of c its triangle lies on.
+    // Around c[i] the triangles from prev's edge to next's (ring order) are sector 0's
+    // (sectors()), the others sector 1's.
+    std::vector<int> slot(3 * static_cast<size_t>(nt), -1);
+    for (int t = 0; t < nt; ++t)
+        for (int k = 0; k < 3; ++k) {
+            const int v = mesh.triangles[t][k];
+            if (local[v] >= 0) slot[3 * t + k] = local[v];
+        }
     for (size_t i = 0; i < n; ++i) {
-        const auto sec = sectors(s, c[i], c[(i + n - 1) % n], c[(i + 1) % n]);
-        for (int side = 0; side < 2; ++side)
-            for (int x : sec[side])
-                if (!on_c[x]) beside[side].push_back(x);
+        const int x = c[i], prev = c[(i + n - 1) % n], next = c[(i + 1) % n];
+        const std::vector<int> ring = s.ring(x);
+        const int r = static_cast<int>(ring.size());
+        const int ip = static_cast<int>(std::find(ring.begin(), ring.end(), prev) - ring.begin());
+        const int in = static_cast<int>(std::find(ring.begin(), ring.end(), next) - ring.begin());
+        QC_CHECK(ip < r && in < r, "harmonic_across: curve neighbours not adjacent");
+        const int span0 = (in - ip + r) % r;  // ring positions 0..span0 (from prev) bound sector 0
+        auto pos = [&](int y) {
+            const int k = static_cast<int>(std::find(ring.begin(), ring.end(), y) - ring.begin());
+            QC_CHECK(k < r, "harmonic_across: a triangle corner off the ring");
+            return (k - ip + r) % r;
+        };
+        for (const int h : s.out_half_edges(x)) {
+            const int t = h / 3;
+            const int pw = pos(s.to(h)), pz = pos(s.to(s.rotate(h)));
+            const int side = std::abs(pw - pz) == 1 && std::max(pw, pz) <= span0 ? 0 : 1;
+            for (int k = 0; k < 3; ++k)
+                if (mesh.triangles[t][k] == x) slot[3 * t + k] = m + side;
+        }
     }
-    const std::vector<double> d0 = distances_from(s, on_c, beside[0]),
-                              d1 = distances_from(s, on_c, beside[1]);
-    std::vector<double> u(s.num_vertices(), kInf);
-    for (int v = 0; v < s.num_vertices(); ++v) {
-        if (on_c[v] || !(d0[v] < kInf && d1[v] < kInf)) continue;
-        const double sum = d0[v] + d1[v];
-        u[v] = sum > 0 ? d0[v] / sum : 0.5;  // beside c on both sides: the middle
-    }
+    std::vector<int> tris(nt);
+    std::iota(tris.begin(), tris.end(), 0);
+    CotangentWeights weight(mesh);
+    Eigen::MatrixXd x;
+    const bool solved = harmonic_extension(
+        weight, tris, slot, m, 1, [](int b, int) { return double(b); }, &x, HarmonicSolver::Supernodal);
+    QC_CHECK(solved, "harmonic_across: the factorisation failed");
+    std::vector<double> u(nv, kInf);
+    for (int v = 0; v < nv; ++v)
+        if (local[v] >= 0) u[v] = x(local[v], 0);
     return u;
 }
 

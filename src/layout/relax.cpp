@@ -1,7 +1,5 @@
 #include "detail/relax.h"
 
-#include <Eigen/SparseCholesky>
-#include <Eigen/SparseCore>
 #include <algorithm>
 #include <cmath>
 #include <functional>
@@ -9,71 +7,13 @@
 #include <limits>
 #include <numeric>
 
+#include "detail/harmonic.h"
 #include "detail/patches.h"
 #include "detail/search.h"
 
 namespace quadcage::layout::detail {
 
 namespace {
-
-// The harmonic extension over the triangles `tris`, whose corners have ids slot[3 i + k] (corner k
-// of tris[i]): ids below m are the free unknowns (row id of *x), an id m + b is fixed at fixed(b, col)
-// in each of the `cols` columns. A vertex may so have several ids (a star whose boundary meets
-// itself). Clamped cotangent weights: positive, so the system is SPD and, on a convex boundary, a
-// Tutte embedding. False if the factorisation fails.
-// The clamped cotangent weight of each half-edge, computed when first asked for: a relaxation pass
-// solves on overlapping regions of one surface (each patch in several), which share them.
-class CotangentWeights {
-public:
-    explicit CotangentWeights(const Mesh& mesh)
-        : mesh_(mesh),
-          w_(3 * static_cast<size_t>(mesh.num_triangles()), std::numeric_limits<double>::quiet_NaN()) {}
-    /// max(half_cotangent(corner k, corner k+1, corner k+2 of triangle t), 0.025).
-    double operator()(int t, int k) {
-        double& w = w_[3 * static_cast<size_t>(t) + k];
-        if (std::isnan(w)) {
-            const Triangle& tri = mesh_.triangles[t];
-            w = std::max(half_cotangent(mesh_, tri[k], tri[(k + 1) % 3], tri[(k + 2) % 3]), 0.025);
-        }
-        return w;
-    }
-
-private:
-    const Mesh& mesh_;
-    std::vector<double> w_;
-};
-
-bool harmonic_extension(const Mesh& mesh, CotangentWeights& weight, const std::vector<int>& tris,
-                        const std::vector<int>& slot, int m, int cols,
-                        const std::function<double(int, int)>& fixed, Eigen::MatrixXd* x) {
-    std::vector<Eigen::Triplet<double>> entries;
-    Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(m, cols);
-    Eigen::VectorXd diagonal = Eigen::VectorXd::Zero(m);
-    for (size_t f = 0; f < tris.size(); ++f) {
-        for (int k = 0; k < 3; ++k) {
-            const double w = weight(tris[f], k);
-            const int li = slot[3 * f + k], lj = slot[3 * f + (k + 1) % 3];
-            const bool fi = li < m, fj = lj < m;
-            if (fi) diagonal[li] += w;
-            if (fj) diagonal[lj] += w;
-            if (fi && fj) {
-                entries.emplace_back(li, lj, -w);
-                entries.emplace_back(lj, li, -w);
-            } else if (fi) {
-                for (int c = 0; c < cols; ++c) rhs(li, c) += w * fixed(lj - m, c);
-            } else if (fj) {
-                for (int c = 0; c < cols; ++c) rhs(lj, c) += w * fixed(li - m, c);
-            }
-        }
-    }
-    for (int i = 0; i < m; ++i) entries.emplace_back(i, i, diagonal[i]);
-    Eigen::SparseMatrix<double> A(m, m);
-    A.setFromTriplets(entries.begin(), entries.end());
-    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(A);
-    if (solver.info() != Eigen::Success) return false;
-    *x = solver.solve(rhs);
-    return true;
-}
 
 // The area of the triangles `tris` as it lies in a map of them into [-1, 1]^2 (uv(i, k): the image
 // of corner k of tris[i]), binned on a 32 x 32 grid: per non-empty bin, the area-weighted mean
@@ -287,7 +227,7 @@ int relax_layout_edges(const Surface& s, std::vector<std::vector<int>>* paths, c
                     for (int v : mesh.triangles[t]) slot.push_back(local[v] >= 0 ? local[v] : m - 2 - local[v]);
                 Eigen::MatrixXd x;
                 if (harmonic_extension(
-                        mesh, weight, tris, slot, m, 1, [&](int b, int) { return h[boundary[b]]; }, &x)) {
+                        weight, tris, slot, m, 1, [&](int b, int) { return h[boundary[b]]; }, &x)) {
                     for (int i = 0; i < m; ++i) h[interior[i]] = x(i, 0);
                     // Shortest path c0 -> c1 through interior vertices, cheapest near h = 1/2.
                     for (int v : interior) blocked[v] = 0;
@@ -496,8 +436,7 @@ int relax_layout_corners(const Surface& s, std::vector<int>* corners, std::vecto
             }
             Eigen::MatrixXd x;
             if (harmonic_extension(
-                    mesh, weight, tris, slot, m, 2, [&](int b, int col) { return boundary_uv[b][col]; },
-                    &x)) {
+                    weight, tris, slot, m, 2, [&](int b, int col) { return boundary_uv[b][col]; }, &x)) {
                 for (int i = 0; i < m; ++i) free_uv[i] = {x(i, 0), x(i, 1)};
                 // Halfway from the centre of the map (which keeps the patches' shapes) to the point
                 // that splits the area evenly.

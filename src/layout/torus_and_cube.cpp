@@ -35,7 +35,7 @@ Network network_of_torus(Builder& b, const Say& say) {
     // The two pairs of parallel cycles cut the torus into its 4 quads: a and the second meridian
     // cut it into two annuli, b1 and the second longitude cut each of those in two. The second
     // cycle of each pair follows the level set that halves the area of the annulus its first one
-    // leaves (ratio_across(), as area_quantiles(): level 1/2), so that a big body with a small
+    // leaves (harmonic_across(), as area_quantiles(): level 1/2), so that a big body with a small
     // handle can be shared among the four quads. (b1's half-way vertex and the cheapest loop
     // through it left the whole body of `generate handles -g 1` in one quad: area max/min 38-43.)
     // Each second cycle crosses its first one's partner once, where that runs nearest the level,
@@ -44,9 +44,10 @@ Network network_of_torus(Builder& b, const Say& say) {
     // matters: by cost alone the second meridian of that body took a short loop round the handle
     // far off the level. Near the ends of a curve the band is not enforced (walls()): where level
     // sets fan out from a narrow place (the gap between a handle's feet) no band is wide enough
-    // there. On that body the four quads then share the body: area max/min 1.13 (-r 3) and 1.15
-    // (-r 2). The level-4 fit of those bodies got worse: relative RMS / Hausdorff 2.0e-4 / 3.3e-3
-    // -> 2.6e-4 / 4.3e-3 (-r 3); the small handle now has a quarter of each quad, not three quads.
+    // there. The field must have no extremum: with the distance ratio d0 / (d0 + d1) the level
+    // closed round a handle's foot as well, and the second meridian took that loop (-r 4: area
+    // max/min 13.4; --bumps 12 --seed 2 and 3: 18.6, 17.5). With the harmonic field: 1.11, 1.25,
+    // 1.07, and at most 1.25 on every genus-1 mesh tried (README).
     constexpr double kBands[] = {0.05, 0.1, 0.2, kInf};
     // The vertex of curve c (rotated to start at `from`) nearest `level` of `field`, two or more
     // steps from `from` either way.
@@ -90,7 +91,7 @@ Network network_of_torus(Builder& b, const Say& say) {
         int x = -1;
         for (int split = 0;; ++split) {
             b.split_chords();
-            *field = area_quantiles(b.s_, ratio_across(b.s_, b.curves_[c]));
+            *field = area_quantiles(b.s_, harmonic_across(b.s_, b.curves_[c]));
             const Cycle& path = b.curves_[across];
             x = nearest_level(path, v, *field, 0.5);
             if (x < 0 || std::abs((*field)[x] - 0.5) <= kBands[0] || split == 8) break;
@@ -139,8 +140,10 @@ Network network_of_torus(Builder& b, const Say& say) {
         if (best_builder || !(std::abs(ub[w] - lb) <= band)) continue;
         for (int side = 0; side < 2; ++side) {
             Builder t = b;
-            t.split_chords();
-            const std::vector<double> ub1 = area_quantiles(t.s_, ratio_across(t.s_, t.curves_[bb]));
+            // ub is this field already unless split_chords() refines (level_crossing() left b's
+            // chords split): one solve saved per side.
+            const std::vector<double> ub1 =
+                t.split_chords() > 0 ? area_quantiles(t.s_, harmonic_across(t.s_, t.curves_[bb])) : ub;
             const std::vector<char> block = walls(t, ub1, lb, band, {w});
             const auto cost = level_cost(t.s_, t.cost_near(t.blocked(), nullptr, kAdjacency), ub1, lb);
             const auto [pw, nw] = neighbours_on(t.curves_[a], w);
@@ -173,7 +176,7 @@ Network network_of_torus(Builder& b, const Say& say) {
             half.push_back(y);
             const int half_id = t.add_curve(half, false);
             t.split_chords();
-            const std::vector<double> ub2 = area_quantiles(t.s_, ratio_across(t.s_, t.curves_[bb]));
+            const std::vector<double> ub2 = area_quantiles(t.s_, harmonic_across(t.s_, t.curves_[bb]));
             const std::vector<char> block2 = walls(t, ub2, lb, band, {w, y});
             const auto cost2 = level_cost(t.s_, t.cost_near(t.blocked(), nullptr, kAdjacency), ub2, lb);
             const auto [py, ny] = neighbours_on(t.curves_[alpha], y);

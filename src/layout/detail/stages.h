@@ -104,13 +104,14 @@ double area_level(const Surface& s, const std::vector<double>& u, const std::vec
 /// the area it leaves on its lower side, in [0, 1] (+inf where u is).
 std::vector<double> area_quantiles(const Surface& s, const std::vector<double>& u);
 
-/// Where each vertex lies across the annulus that closed curve c leaves when the surface is cut
-/// along it: d0 / (d0 + d1), with d0 and d1 the distances along mesh edges, not crossing c, from
-/// the vertices beside c in its sector 0 and in its sector 1 (sectors()). 0 beside c on one side,
-/// 1 beside it on the other; +inf on c and where neither side is reached. For a non-separating c,
-/// its level sets are closed curves parallel to c, and area_level() of 1/2 is the one that cuts the
-/// annulus in halves of equal area.
-std::vector<double> ratio_across(const Surface& s, const Cycle& c);
+/// Where each vertex lies across the annulus that closed, non-separating curve c leaves when the
+/// surface is cut along it: the harmonic function (clamped cotangent weights) that is 0 on c seen
+/// from its sector 0 and 1 seen from its sector 1 (sectors()); +inf on c. It has no extremum inside
+/// the annulus (maximum principle), so each of its level sets is one closed curve parallel to c,
+/// and area_level() of 1/2 is the one that cuts the annulus in halves of equal area. (The distance
+/// ratio d0 / (d0 + d1) it replaced has extrema beside a small handle's foot: a level set closed
+/// round the foot there.)
+std::vector<double> harmonic_across(const Surface& s, const Cycle& c);
 
 /// The pieces cut out by the closed curves `ids`, with the holes of each.
 Cut cut_by(const Builder& b, const std::vector<int>& ids);
