@@ -57,8 +57,9 @@ bool harmonic_extension(CotangentWeights& weight, const std::vector<int>& tris, 
         *x = ldlt.solve(rhs);
         return true;
     }
-    // As the embedding's Newton steps (embedding.cpp): METIS's ordering or AMD's, whichever fills
-    // less, and one BLAS thread, so the bits do not depend on the machine's core count.
+    // AMD's ordering alone: trying METIS's as well, as the embedding's Newton steps do, made each
+    // solve of a 40k-vertex genus-1 body 0.33 s instead of 0.15 s. One BLAS thread, so the bits do
+    // not depend on the machine's core count (blas_threads.h).
     const quadcage::detail::ScopedBlasThreads blas(1);
     Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> llt;
     llt.cholmod().print = 0;

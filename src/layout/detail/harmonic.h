@@ -23,8 +23,8 @@ private:
     std::vector<double> w_;
 };
 
-/// How harmonic_extension() factorises: Eigen's simplicial LDLT (the relaxation's many small
-/// regions) or CHOLMOD's supernodal LLT (a whole surface: several times faster at scan size).
+/// How harmonic_extension() factorises: Eigen's simplicial LDLT (the relaxation's regions) or
+/// CHOLMOD's supernodal LLT (harmonic_across()'s whole surface).
 enum class HarmonicSolver { Simplicial, Supernodal };
 
 /// The harmonic extension over the triangles `tris`, whose corners have ids slot[3 i + k] (corner k
