@@ -168,9 +168,9 @@ std::vector<double> harmonic_across(const Surface& s, const Cycle& c) {
     int m = 0;
     for (int v = 0; v < nv; ++v)
         if (local[v] == -1) local[v] = m++;
-    // Each corner's id: its unknown, or for a corner on c, m + the side of c its triangle lies on.
-    // Around c[i] the triangles from prev's edge to next's (ring order) are sector 0's
-    // (sectors()), the others sector 1's.
+    // Each corner's id: its unknown, or for a corner on c, m + the side of c its triangle lies on:
+    // the sector (sectors()) its other corners lie in, or for a triangle of three curve vertices
+    // (prev, c[i], next), the sector with no vertex.
     std::vector<int> slot(3 * static_cast<size_t>(nt), -1);
     for (int t = 0; t < nt; ++t)
         for (int k = 0; k < 3; ++k) {
@@ -178,22 +178,14 @@ std::vector<double> harmonic_across(const Surface& s, const Cycle& c) {
             if (local[v] >= 0) slot[3 * t + k] = local[v];
         }
     for (size_t i = 0; i < n; ++i) {
-        const int x = c[i], prev = c[(i + n - 1) % n], next = c[(i + 1) % n];
-        const std::vector<int> ring = s.ring(x);
-        const int r = static_cast<int>(ring.size());
-        const int ip = static_cast<int>(std::find(ring.begin(), ring.end(), prev) - ring.begin());
-        const int in = static_cast<int>(std::find(ring.begin(), ring.end(), next) - ring.begin());
-        QC_CHECK(ip < r && in < r, "harmonic_across: curve neighbours not adjacent");
-        const int span0 = (in - ip + r) % r;  // ring positions 0..span0 (from prev) bound sector 0
-        auto pos = [&](int y) {
-            const int k = static_cast<int>(std::find(ring.begin(), ring.end(), y) - ring.begin());
-            QC_CHECK(k < r, "harmonic_across: a triangle corner off the ring");
-            return (k - ip + r) % r;
-        };
+        const int x = c[i];
+        const auto sec = sectors(s, x, c[(i + n - 1) % n], c[(i + 1) % n]);
+        auto in_sector = [&](int side, int y) { return index_in(sec[side], y) >= 0; };
         for (const int h : s.out_half_edges(x)) {
-            const int t = h / 3;
-            const int pw = pos(s.to(h)), pz = pos(s.to(s.rotate(h)));
-            const int side = std::abs(pw - pz) == 1 && std::max(pw, pz) <= span0 ? 0 : 1;
+            const int t = h / 3, y = s.to(h), z = s.to(s.rotate(h));
+            const int side = in_sector(0, y) || in_sector(0, z)   ? 0
+                             : in_sector(1, y) || in_sector(1, z) ? 1
+                                                                  : (sec[0].empty() ? 0 : 1);
             for (int k = 0; k < 3; ++k)
                 if (mesh.triangles[t][k] == x) slot[3 * t + k] = m + side;
         }

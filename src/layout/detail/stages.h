@@ -23,7 +23,8 @@ inline constexpr double kInf = std::numeric_limits<double>::infinity();
 /// Extra cost (in edge lengths) of walking next to an existing curve; see Builder::cost_near().
 inline constexpr double kAdjacency = 4.0;
 /// How strongly a level-set curve keeps to its level: an edge costs its length times
-/// 1 + kLevelStick * |u - level| (u is a distance ratio in [0, 1], or a distance over a width).
+/// 1 + kLevelStick * |u - level| (u in [0, 1]: an area quantile or a distance ratio; or a
+/// distance over a width).
 inline constexpr double kLevelStick = 20.0;
 /// Times a search may open the walls around it (split_chords_around) before it gives up.
 inline constexpr int kRoomAttempts = 24;
