@@ -18,6 +18,7 @@
 #include "detail/relax.h"
 #include "detail/stages.h"
 #include "detail/surface.h"
+#include "detail/unrefine.h"
 #include "quadcage/core/errors.h"
 #include "quadcage/core/validate.h"
 
@@ -526,6 +527,25 @@ QuadLayout build_quad_layout(const Mesh& input, const QuadLayoutOptions& options
         // Built side by side: the layout not kept adds the wall time past the kept one's, not its
         // own duration (time spent on the layout curves).
         out.seconds.curves += std::max(0.0, since(after_cycles) - seconds_after_cycles(out.seconds));
+    }
+    {
+        // The curve searches split edges for room (Builder::split_chords and its kin); the splits no
+        // curve runs through once the layout is chosen are undone, and the patches mapped again.
+        const auto start = std::chrono::steady_clock::now();
+        QuadLayout lean = out;
+        if (const int removed = detail::remove_unused_refinement(&lean); removed > 0) {
+            detail::parameterize_patches(&lean);
+            if (const std::string problem = verify_quad_layout(lean); problem.empty()) {
+                detail::measure_quality(&lean);
+                say("refinement: " + std::to_string(removed) +
+                    " vertices no layout curve runs through removed");
+                out = std::move(lean);
+            } else {
+                say("refinement: keeping the vertices no layout curve runs through (without them: " +
+                    problem + ")");
+            }
+        }
+        out.seconds.parameterization += since(start);
     }
     if (options.embedding_iterations > 0) {
         const auto start = std::chrono::steady_clock::now();

@@ -1,0 +1,26 @@
+#pragma once
+// Undoing the refinement no curve needs (issue #20: "the layout mesh grows by at most 25% of the
+// input's vertices plus 200 per corner"). The curve constructions split mesh edges for room while
+// they search (Builder::split_chords and its kin); most of those splits end up under a curve, but
+// many are left inside patches once the curves that needed them were rerouted or relaxed.
+
+#include "quadcage/layout/quad_layout.h"
+
+namespace quadcage::layout::detail {
+
+/// Removes the vertices the layout added (index >= input_vertices) that lie on no layout edge,
+/// cycle of the orthogonal system or S-cycle, by collapsing each into a neighbour where that keeps
+/// the surface exactly: every triangle that changes keeps its plane (so a vertex on an input edge
+/// between two faces that are not coplanar only slides along that edge) and its orientation, the
+/// collapse keeps the mesh a manifold (link condition), and no new edge joins two vertices of one
+/// layout edge without being part of it (the dividing chords parameterize_patches() cannot map).
+/// Of the neighbours that qualify, the one whose new triangles have the largest smallest angle is
+/// taken. Later vertices go first (a split made inside another split's triangles is undone before
+/// it), over passes until one removes nothing. Every kept vertex stays where it is; vertices are
+/// renumbered in their order (the input's first, unchanged), and the mesh, triangle_patch,
+/// corner_vertex, edge_paths and the cycles follow. corner_uv and quality are not recomputed: call
+/// parameterize_patches() and verify the result. Returns the number of vertices removed.
+/// \pre layout is a verified layout (verify_quad_layout() returns "").
+int remove_unused_refinement(QuadLayout* layout);
+
+}  // namespace quadcage::layout::detail

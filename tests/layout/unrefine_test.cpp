@@ -1,0 +1,157 @@
+// remove_unused_refinement: splits no curve runs through are undone exactly, and nothing else moves.
+
+#include "detail/unrefine.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <set>
+#include <utility>
+
+#include "detail/patches.h"
+#include "quadcage/core/shapes.h"
+#include "quadcage/core/validate.h"
+#include "quadcage/layout/quad_layout.h"
+
+namespace quadcage::layout::detail {
+namespace {
+
+// Splits mesh edge a-b at its midpoint (both its triangles in two, each half keeps its patch).
+// Returns the new vertex.
+int split_edge(QuadLayout* L, int a, int b) {
+    Mesh& m = L->mesh;
+    const int mid = m.num_vertices();
+    m.points.push_back((m.points[a] + m.points[b]) * 0.5);
+    const int nt = m.num_triangles();
+    int found = 0;
+    for (int t = 0; t < nt; ++t) {
+        Triangle& f = m.triangles[t];
+        for (int k = 0; k < 3; ++k) {
+            const int x = f[k], y = f[(k + 1) % 3], z = f[(k + 2) % 3];
+            if (!((x == a && y == b) || (x == b && y == a))) continue;
+            f = {x, mid, z};
+            m.triangles.push_back({mid, y, z});
+            L->triangle_patch.push_back(L->triangle_patch[t]);
+            ++found;
+            break;
+        }
+    }
+    EXPECT_EQ(found, 2) << "edge " << a << "-" << b;
+    return mid;
+}
+
+// The triangles as a set of (rotated so the least vertex is first) corner triples with patches.
+std::set<std::pair<std::array<int, 3>, int>> triangle_set(const QuadLayout& L) {
+    std::set<std::pair<std::array<int, 3>, int>> out;
+    for (int t = 0; t < L.mesh.num_triangles(); ++t) {
+        std::array<int, 3> f = L.mesh.triangles[t];
+        std::rotate(f.begin(), std::min_element(f.begin(), f.end()), f.end());
+        out.insert({f, L.triangle_patch[t]});
+    }
+    return out;
+}
+
+// A vertex of an edge of patch `patch` that lies on no layout edge and no cycle, with a neighbour
+// across that edge in the same patch; -1 if none.
+std::pair<int, int> interior_edge(const QuadLayout& L, const std::vector<char>& on_curve, int skip) {
+    for (int t = 0; t < L.mesh.num_triangles(); ++t) {
+        const Triangle& f = L.mesh.triangles[t];
+        for (int k = 0; k < 3; ++k) {
+            const int a = f[k], b = f[(k + 1) % 3];
+            if (on_curve[a] || on_curve[b] || skip-- > 0) continue;
+            return {a, b};
+        }
+    }
+    return {-1, -1};
+}
+
+// A torus whose points are jittered, so that no two of its triangles are coplanar (a torus grid
+// cell is a planar trapezoid, whose other diagonal an exact undo may take as well).
+QuadLayout torus_layout() {
+    Mesh mesh = shapes::torus(40, 20, 1.0, 0.4);
+    unsigned state = 12345;
+    auto jitter = [&state]() {
+        state = state * 1664525u + 1013904223u;
+        return 2e-3 * (static_cast<double>(state >> 8) / (1u << 24) - 0.5);
+    };
+    for (Vec3& p : mesh.points) p += Vec3{jitter(), jitter(), jitter()};
+    return build_quad_layout(mesh, QuadLayoutOptions{});
+}
+
+TEST(Unrefine, UndoesSplitsInsidePatchesExactlyAndKeepsEveryCurve) {
+    const QuadLayout original = torus_layout();
+    ASSERT_EQ(verify_quad_layout(original), "");
+    {
+        QuadLayout again = original;
+        EXPECT_EQ(remove_unused_refinement(&again), 0) << "build_quad_layout() leaves nothing to remove";
+    }
+    std::vector<char> on_curve(original.mesh.num_vertices(), 0);
+    for (const auto& p : original.edge_paths)
+        for (int v : p) on_curve[v] = 1;
+    for (const auto& c : original.orthogonal_system)
+        for (int v : c) on_curve[v] = 1;
+
+    QuadLayout L = original;
+    // Splits on edges of the input torus (every one a crease: its two faces are not coplanar), a
+    // split of an edge from such a midpoint (a point inside an input face), and a split of a split.
+    int splits = 0;
+    for (int i = 0; i < 12; ++i) {
+        const auto [a, b] = interior_edge(original, on_curve, 97 * i);
+        ASSERT_GE(a, 0);
+        const int m = split_edge(&L, a, b);
+        ++splits;
+        if (i % 3 == 0) {
+            // m's neighbours other than a and b: split m-c, then that new edge's half again.
+            int c = -1;
+            for (const Triangle& f : L.mesh.triangles)
+                if (std::find(f.begin(), f.end(), m) != f.end())
+                    for (int x : f)
+                        if (x != m && x != a && x != b) c = x;
+            ASSERT_GE(c, 0);
+            const int m2 = split_edge(&L, m, c);
+            const int m3 = split_edge(&L, m2, c);
+            (void)m3;
+            splits += 2;
+        }
+    }
+    ASSERT_TRUE(validate(L.mesh).quaddable()) << validate(L.mesh).error_summary();
+    EXPECT_EQ(remove_unused_refinement(&L), splits);
+
+    // The same points in the same order, the same triangles in the same patches.
+    ASSERT_EQ(L.mesh.num_vertices(), original.mesh.num_vertices());
+    for (int v = 0; v < L.mesh.num_vertices(); ++v) EXPECT_EQ(L.mesh.points[v], original.mesh.points[v]) << v;
+    EXPECT_EQ(triangle_set(L), triangle_set(original));
+    EXPECT_EQ(L.edge_paths, original.edge_paths);
+    EXPECT_EQ(L.orthogonal_system, original.orthogonal_system);
+    EXPECT_EQ(L.corner_vertex, original.corner_vertex);
+    parameterize_patches(&L);
+    EXPECT_EQ(verify_quad_layout(L), "");
+}
+
+TEST(Unrefine, KeepsVerticesCurvesRunThroughAndRenumbersThem) {
+    const QuadLayout original = torus_layout();
+    std::vector<char> on_curve(original.mesh.num_vertices(), 0);
+    for (const auto& p : original.edge_paths)
+        for (int v : p) on_curve[v] = 1;
+    for (const auto& c : original.orthogonal_system)
+        for (int v : c) on_curve[v] = 1;
+    QuadLayout L = original;
+    // An unused split first (lower index), then a split of a layout edge's mesh edge, which the
+    // layout edge then runs through: the first goes, the second stays and moves down by one.
+    const auto [a, b] = interior_edge(original, on_curve, 0);
+    const int unused = split_edge(&L, a, b);
+    const std::vector<int>& path = original.edge_paths[0];
+    const int used = split_edge(&L, path[0], path[1]);
+    L.edge_paths[0].insert(L.edge_paths[0].begin() + 1, used);
+    ASSERT_EQ(used, unused + 1);
+    EXPECT_EQ(remove_unused_refinement(&L), 1);
+    ASSERT_EQ(L.mesh.num_vertices(), original.mesh.num_vertices() + 1);
+    EXPECT_EQ(L.edge_paths[0][1], unused) << "the kept split takes the removed one's index";
+    EXPECT_EQ(L.mesh.points[unused], (original.mesh.points[path[0]] + original.mesh.points[path[1]]) * 0.5);
+    parameterize_patches(&L);
+    EXPECT_EQ(verify_quad_layout(L), "");
+}
+
+}  // namespace
+}  // namespace quadcage::layout::detail
