@@ -234,18 +234,23 @@ std::string extract_cage(const Surface& s, const std::vector<int>& corners,
     return "";
 }
 
-void parameterize_patches(QuadLayout* layout) {
+void parameterize_patches(QuadLayout* layout, const std::vector<char>* only) {
     const Mesh& mesh = layout->mesh;
     const int n = mesh.num_vertices(), nt = mesh.num_triangles(), nq = layout->cage.num_quads();
     std::vector<std::vector<int>> patch_triangles(nq);
     for (int t = 0; t < nt; ++t) patch_triangles[layout->triangle_patch[t]].push_back(t);
-    layout->corner_uv.assign(nt, {});
+    if (only)
+        QC_CHECK(static_cast<int>(layout->corner_uv.size()) == nt && static_cast<int>(only->size()) == nq,
+                 "parameterize_patches: the maps to keep do not match the mesh");
+    else
+        layout->corner_uv.assign(nt, {});
     std::vector<int> local(n, -1);  // index among the patch's unknowns, or -2 on its boundary
     std::vector<UV> boundary_uv(n);
     std::vector<int> loop, side;
     // Per-vertex stretch sums of the patch being mapped (zero between patches).
     std::vector<double> sigma_sum(n, 0), area_sum(n, 0);
     for (int q = 0; q < nq; ++q) {
+        if (only && !(*only)[q]) continue;
         quad_boundary(*layout, q, &loop, &side);
         const std::vector<UV> on_sides = boundary_positions(mesh, loop, side);
         for (size_t i = 0; i < loop.size(); ++i) {

@@ -536,11 +536,13 @@ QuadLayout build_quad_layout(const Mesh& input, const QuadLayoutOptions& options
     }
     {
         // The curve searches split edges for room (Builder::split_chords and its kin); the splits no
-        // curve runs through once the layout is chosen are undone, and the patches mapped again.
+        // curve runs through once the layout is chosen are undone, and the patches where that
+        // happened mapped again.
         const auto start = std::chrono::steady_clock::now();
         QuadLayout lean = out;
-        if (const int removed = detail::remove_unused_refinement(&lean); removed > 0) {
-            detail::parameterize_patches(&lean);
+        std::vector<char> changed;
+        if (const int removed = detail::remove_unused_refinement(&lean, &changed); removed > 0) {
+            detail::parameterize_patches(&lean, &changed);
             if (const std::string problem = verify_quad_layout(lean); problem.empty()) {
                 detail::measure_quality(&lean);
                 say("refinement: " + std::to_string(removed) +

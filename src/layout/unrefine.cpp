@@ -1,6 +1,7 @@
 #include "detail/unrefine.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -70,6 +71,8 @@ public:
     }
 
     bool removed(int v) const { return around_[v].empty(); }
+    /// A triangle of each collapsed fan (its patch is the fan's: the vertex was inside a patch).
+    const std::vector<int>& changed() const { return changed_; }
     const std::vector<Triangle>& triangles() const { return tri_; }
     bool dead(int t) const { return dead_[t] != 0; }
 
@@ -143,6 +146,7 @@ private:
         }
         if (best < 0) return false;
         const std::vector<int> fan = around_[m];
+        changed_.push_back(fan.front());
         for (int t : fan) {
             Triangle& f = tri_[t];
             if (std::find(f.begin(), f.end(), best) != f.end()) {
@@ -166,15 +170,20 @@ private:
     std::vector<char> dead_;
     std::vector<char> keep_;
     std::vector<std::vector<int>> paths_of_;
+    std::vector<int> changed_;
 };
 
 }  // namespace
 
-int remove_unused_refinement(QuadLayout* layout) {
+int remove_unused_refinement(QuadLayout* layout, std::vector<char>* changed) {
     QuadLayout& L = *layout;
+    QC_CHECK(L.corner_uv.size() == L.mesh.triangles.size(),
+             "remove_unused_refinement: the layout has no patch maps");
     Collapser c(L);
     const int removed = c.run(L.input_vertices);
+    changed->assign(L.cage.num_quads(), 0);
     if (removed == 0) return 0;
+    for (int t : c.changed()) (*changed)[L.triangle_patch[t]] = 1;
     const int n = L.mesh.num_vertices();
     std::vector<int> id(n, -1);
     Mesh mesh;
@@ -185,12 +194,15 @@ int remove_unused_refinement(QuadLayout* layout) {
         }
     QC_CHECK(mesh.num_vertices() == n - removed, "remove_unused_refinement: vertex count");
     std::vector<int> patch;
+    std::vector<std::array<UV, 3>> uv;
     for (size_t t = 0; t < c.triangles().size(); ++t) {
         if (c.dead(static_cast<int>(t))) continue;
         Triangle f = c.triangles()[t];
         for (int& v : f) v = id[v];
         mesh.triangles.push_back(f);
         patch.push_back(L.triangle_patch[t]);
+        // A changed patch's maps are made again; t may be a triangle that changed corners.
+        uv.push_back((*changed)[L.triangle_patch[t]] ? std::array<UV, 3>{} : L.corner_uv[t]);
     }
     auto renumber = [&](std::vector<int>& vertices) {
         for (int& v : vertices) {
@@ -204,7 +216,7 @@ int remove_unused_refinement(QuadLayout* layout) {
     renumber(L.corner_vertex);
     L.mesh = std::move(mesh);
     L.triangle_patch = std::move(patch);
-    L.corner_uv.clear();
+    L.corner_uv = std::move(uv);
     return removed;
 }
 

@@ -17,7 +17,8 @@
 namespace quadcage::layout::detail {
 namespace {
 
-// Splits mesh edge a-b at its midpoint (both its triangles in two, each half keeps its patch).
+// Splits mesh edge a-b at its midpoint (both its triangles in two, each half keeps its patch and
+// its part of the map).
 // Returns the new vertex.
 int split_edge(QuadLayout* L, int a, int b) {
     Mesh& m = L->mesh;
@@ -30,8 +31,13 @@ int split_edge(QuadLayout* L, int a, int b) {
         for (int k = 0; k < 3; ++k) {
             const int x = f[k], y = f[(k + 1) % 3], z = f[(k + 2) % 3];
             if (!((x == a && y == b) || (x == b && y == a))) continue;
+            const std::array<UV, 3> uv = L->corner_uv[t];
+            const UV ux = uv[k], uy = uv[(k + 1) % 3], uz = uv[(k + 2) % 3];
+            const UV um{0.5 * (ux[0] + uy[0]), 0.5 * (ux[1] + uy[1])};
             f = {x, mid, z};
+            L->corner_uv[t] = {ux, um, uz};
             m.triangles.push_back({mid, y, z});
+            L->corner_uv.push_back({um, uy, uz});
             L->triangle_patch.push_back(L->triangle_patch[t]);
             ++found;
             break;
@@ -84,7 +90,9 @@ TEST(Unrefine, UndoesSplitsInsidePatchesExactlyAndKeepsEveryCurve) {
     ASSERT_EQ(verify_quad_layout(original), "");
     {
         QuadLayout again = original;
-        EXPECT_EQ(remove_unused_refinement(&again), 0) << "build_quad_layout() leaves nothing to remove";
+        std::vector<char> changed;
+        EXPECT_EQ(remove_unused_refinement(&again, &changed), 0)
+            << "build_quad_layout() leaves nothing to remove";
     }
     std::vector<char> on_curve(original.mesh.num_vertices(), 0);
     for (const auto& p : original.edge_paths)
@@ -116,7 +124,13 @@ TEST(Unrefine, UndoesSplitsInsidePatchesExactlyAndKeepsEveryCurve) {
         }
     }
     ASSERT_TRUE(validate(L.mesh).quaddable()) << validate(L.mesh).error_summary();
-    EXPECT_EQ(remove_unused_refinement(&L), splits);
+    std::set<int> split_patches;  // the patches of the split edges' triangles
+    for (int t = original.mesh.num_triangles(); t < L.mesh.num_triangles(); ++t)
+        split_patches.insert(L.triangle_patch[t]);
+    std::vector<char> changed;
+    EXPECT_EQ(remove_unused_refinement(&L, &changed), splits);
+    for (int q = 0; q < L.cage.num_quads(); ++q)
+        EXPECT_EQ(changed[q] != 0, split_patches.count(q) == 1) << "patch " << q;
 
     // The same points in the same order, the same triangles in the same patches.
     ASSERT_EQ(L.mesh.num_vertices(), original.mesh.num_vertices());
@@ -125,7 +139,13 @@ TEST(Unrefine, UndoesSplitsInsidePatchesExactlyAndKeepsEveryCurve) {
     EXPECT_EQ(L.edge_paths, original.edge_paths);
     EXPECT_EQ(L.orthogonal_system, original.orthogonal_system);
     EXPECT_EQ(L.corner_vertex, original.corner_vertex);
-    parameterize_patches(&L);
+    // The patches no split touched keep their maps; mapping only the others gives every patch the
+    // map a full mapping gives.
+    QuadLayout full = L;
+    parameterize_patches(&full);
+    parameterize_patches(&L, &changed);
+    for (int t = 0; t < L.mesh.num_triangles(); ++t)
+        ASSERT_EQ(L.corner_uv[t], full.corner_uv[t]) << "triangle " << t;
     EXPECT_EQ(verify_quad_layout(L), "");
 }
 
@@ -145,11 +165,12 @@ TEST(Unrefine, KeepsVerticesCurvesRunThroughAndRenumbersThem) {
     const int used = split_edge(&L, path[0], path[1]);
     L.edge_paths[0].insert(L.edge_paths[0].begin() + 1, used);
     ASSERT_EQ(used, unused + 1);
-    EXPECT_EQ(remove_unused_refinement(&L), 1);
+    std::vector<char> changed;
+    EXPECT_EQ(remove_unused_refinement(&L, &changed), 1);
     ASSERT_EQ(L.mesh.num_vertices(), original.mesh.num_vertices() + 1);
     EXPECT_EQ(L.edge_paths[0][1], unused) << "the kept split takes the removed one's index";
     EXPECT_EQ(L.mesh.points[unused], (original.mesh.points[path[0]] + original.mesh.points[path[1]]) * 0.5);
-    parameterize_patches(&L);
+    parameterize_patches(&L);  // the split layout edge changed two patches' boundaries: map them all
     EXPECT_EQ(verify_quad_layout(L), "");
 }
 

@@ -54,9 +54,11 @@ std::string extract_cage(const Surface& s, const std::vector<int>& corners,
 /// weights, which cannot fold on a convex boundary (Floater 2003): clamped cotangent weights (or
 /// uniform ones where those squeeze a triangle below rounding), then reweighted by the local L2
 /// stretch for up to 8 rounds (Yoshizawa, Belyaev & Seidel 2004), keeping the least stretched map.
+/// With `only` (one flag per cage quad), maps only the patches it marks and keeps the corner_uv of
+/// the others' triangles, which must be their maps already.
 /// \pre extract_cage() succeeded and no mesh edge joins two boundary vertices of a patch without
 ///      being a layout edge (split such chords first).
-void parameterize_patches(QuadLayout* layout);
+void parameterize_patches(QuadLayout* layout, const std::vector<char>* only = nullptr);
 
 /// The boundary of cage quad q as a closed loop of mesh vertices starting at its corner 0, with
 /// the side (0..3) of each loop edge: loop[i] -> loop[i+1] lies on side side[i].

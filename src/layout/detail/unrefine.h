@@ -18,9 +18,11 @@ namespace quadcage::layout::detail {
 /// taken. Later vertices go first (a split made inside another split's triangles is undone before
 /// it), over passes until one removes nothing. Every kept vertex stays where it is; vertices are
 /// renumbered in their order (the input's first, unchanged), and the mesh, triangle_patch,
-/// corner_vertex, edge_paths and the cycles follow. corner_uv and quality are not recomputed: call
-/// parameterize_patches() and verify the result. Returns the number of vertices removed.
+/// corner_vertex, edge_paths, the cycles and the corner_uv of the triangles kept as they were follow.
+/// The patches where a vertex was removed are marked in *changed (one flag per cage quad): map them
+/// again (parameterize_patches() with `only`) and verify the result. quality is not recomputed.
+/// Returns the number of vertices removed.
 /// \pre layout is a verified layout (verify_quad_layout() returns "").
-int remove_unused_refinement(QuadLayout* layout);
+int remove_unused_refinement(QuadLayout* layout, std::vector<char>* changed);
 
 }  // namespace quadcage::layout::detail
