@@ -254,7 +254,8 @@ uint64_t spread_bits(uint64_t x) {
 
 struct ClosestPointIndex::Impl : IndexData {};
 
-ClosestPointIndex::ClosestPointIndex(const Mesh& mesh) : impl_(std::make_unique<Impl>()) {
+ClosestPointIndex::ClosestPointIndex(const Mesh& mesh, BuildQuality quality)
+    : impl_(std::make_unique<Impl>()) {
     if (mesh.triangles.empty())
         throw InvalidInput("closest-point index: the mesh has no triangles");
     const int nv = mesh.num_vertices();
@@ -287,11 +288,14 @@ ClosestPointIndex::ClosestPointIndex(const Mesh& mesh) : impl_(std::make_unique<
     if (!im.device) throw_embree_error(nullptr, "rtcNewDevice");
     im.scene = rtcNewScene(im.device);
     check_embree(im.device, "rtcNewScene");
-    rtcSetSceneBuildQuality(im.scene, RTC_BUILD_QUALITY_MEDIUM);
+    // The scene's and the geometry's quality both: the scene's alone still built the medium BVH.
+    const RTCBuildQuality build =
+        quality == BuildQuality::Fast ? RTC_BUILD_QUALITY_LOW : RTC_BUILD_QUALITY_MEDIUM;
+    rtcSetSceneBuildQuality(im.scene, build);
 
     RTCGeometry geom = rtcNewGeometry(im.device, RTC_GEOMETRY_TYPE_TRIANGLE);
     check_embree(im.device, "rtcNewGeometry");
-    rtcSetGeometryBuildQuality(geom, RTC_BUILD_QUALITY_MEDIUM);
+    rtcSetGeometryBuildQuality(geom, build);
     auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(
         geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), nv));
     auto* ib = static_cast<unsigned*>(rtcSetNewGeometryBuffer(

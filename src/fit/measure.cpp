@@ -16,7 +16,10 @@ double seconds_since(const std::chrono::steady_clock::time_point& start) {
 }
 
 SurfaceProjector::SurfaceProjector(const subdiv::LimitSurface& surface, int segments, int threads)
-    : surface_(surface), tessellation_(surface.tessellate(segments)), index_(tessellation_.mesh), threads_(threads) {}
+    : surface_(surface),
+      tessellation_(surface.tessellate(segments)),
+      index_(tessellation_.mesh, accel::BuildQuality::Fast),
+      threads_(threads) {}
 
 subdiv::FacePoint SurfaceProjector::param_of(int triangle, const std::array<double, 3>& bary) const {
     // Triangles are emitted per face, per cell (i outer, j inner), two per cell: (a,b,c), (a,c,d)

@@ -216,6 +216,30 @@ TEST(AccelClosestPoint, QueryAllWithinAnswersExactlyTheHitsInsideTheLimit) {
     EXPECT_THROW(index.query_all_within({Vec3{}}, {std::nan("")}), InvalidInput);
 }
 
+TEST(AccelClosestPoint, FastBuildGivesTheSameHits) {
+    // The build quality changes the BVH, which only prunes: every hit must be the same bits, with
+    // and without limits, on points near the surface (the fit's case) and far from it.
+    const Mesh m = bumpy_sphere(40, 64, 1.0, 0.2);
+    const ClosestPointIndex medium(m), fast(m, BuildQuality::Fast);
+    EXPECT_EQ(fast.num_triangles(), m.num_triangles());
+    std::vector<Vec3> pts = random_points(m, 3000, 0.4, 7);
+    for (const Vec3& p : random_points(m, 3000, 0.02, 8)) pts.push_back(medium.query(p).point * 1.001);
+    const std::vector<ClosestHit> a = medium.query_all(pts, 2), b = fast.query_all(pts, 2);
+    std::vector<double> limit(pts.size());
+    for (size_t i = 0; i < pts.size(); ++i) limit[i] = a[i].distance * (i % 3 == 0 ? 0.5 : 1.5);
+    const std::vector<ClosestHit> aw = medium.query_all_within(pts, limit, 2),
+                                  bw = fast.query_all_within(pts, limit, 2);
+    for (size_t i = 0; i < pts.size(); ++i) {
+        EXPECT_EQ(b[i].triangle, a[i].triangle) << "point " << i;
+        EXPECT_EQ(b[i].point, a[i].point);
+        EXPECT_EQ(b[i].barycentric, a[i].barycentric);
+        EXPECT_EQ(b[i].distance, a[i].distance);
+        EXPECT_EQ(bw[i].triangle, aw[i].triangle) << "point " << i;
+        EXPECT_EQ(bw[i].point, aw[i].point);
+        EXPECT_EQ(bw[i].distance, aw[i].distance);
+    }
+}
+
 TEST(AccelClosestPoint, FarAwayPoints) {
     const Mesh m = bumpy_sphere(12, 20, 1.0, 0.15);
     const ClosestPointIndex index(m);

@@ -11,6 +11,7 @@ namespace quadcage::fit::detail {
 
 /// Closest points on a limit surface: a tessellation with `segments` per face side seeds each
 /// query through an Embree index; Newton steps on the exact surface (LimitSurface::project) refine it.
+/// The index is built fast (accel::BuildQuality::Fast): the fit builds one every round.
 class SurfaceProjector {
 public:
     SurfaceProjector(const subdiv::LimitSurface& surface, int segments, int threads);
