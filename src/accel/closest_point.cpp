@@ -11,6 +11,7 @@
 #include <thread>
 #include <utility>
 
+#include "detail/morton_order.h"
 #include "quadcage/core/errors.h"
 
 namespace quadcage::accel {
@@ -366,7 +367,7 @@ std::vector<ClosestHit> ClosestPointIndex::query_points(const std::vector<Vec3>&
     // give a small bound, and a small search sphere prunes most of the BVH. The bound does not
     // change any answer.
     const Impl& im = *impl_;
-    std::vector<std::pair<uint64_t, uint32_t>> order(points.size());
+    std::vector<uint64_t> codes(points.size());
     for (size_t i = 0; i < points.size(); ++i) {
         const Vec3 q = (points[i] - im.centre) * im.scale;
         uint64_t code = 0;
@@ -374,9 +375,9 @@ std::vector<ClosestHit> ClosestPointIndex::query_points(const std::vector<Vec3>&
             const double unit = std::clamp((q[k] + 1.0) * 0.5, 0.0, 1.0);
             code |= spread_bits(static_cast<uint64_t>(unit * 2097151.0)) << k;
         }
-        order[i] = {code, static_cast<uint32_t>(i)};
+        codes[i] = code;
     }
-    std::sort(order.begin(), order.end());
+    const std::vector<uint32_t> order = detail::order_by_code(codes);
 
     std::vector<ClosestHit> hits(points.size());
     constexpr size_t kBlock = 256;
@@ -399,7 +400,7 @@ std::vector<ClosestHit> ClosestPointIndex::query_points(const std::vector<Vec3>&
                 const Vec3* prev = nullptr;
                 double prev_distance = 0;
                 for (size_t k = b * kBlock; k < end; ++k) {
-                    const size_t i = order[k].second;
+                    const size_t i = order[k];
                     const double bound = prev ? norm(points[i] - *prev) + prev_distance
                                               : std::numeric_limits<double>::infinity();
                     if (limits) {

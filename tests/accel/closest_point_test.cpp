@@ -4,10 +4,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <random>
 #include <utility>
 
+#include "detail/morton_order.h"
 #include "quadcage/core/errors.h"
 
 namespace quadcage::accel {
@@ -341,6 +343,26 @@ TEST(AccelClosestPoint, RejectsBadInput) {
     EXPECT_THROW(index.query({inf, 0, 0}), InvalidInput);
     EXPECT_THROW(index.query_all({{0, 0, 0}, {0, std::nan(""), 0}}), InvalidInput);
     EXPECT_THROW(index.query_all({{0, 0, 0}}, -1), InvalidInput);
+}
+
+TEST(AccelMortonOrder, OrderByCodeIsStdSortOfCodeIndexPairs) {
+    // Codes of every width (the skipped high passes), with many repeats (the index breaks ties).
+    std::mt19937_64 rng(9);
+    for (int bits : {0, 1, 11, 12, 40, 63, 64}) {
+        for (size_t n : {size_t{0}, size_t{1}, size_t{7}, size_t{5000}}) {
+            std::vector<std::uint64_t> codes(n);
+            const std::uint64_t mask = bits == 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << bits) - 1;
+            for (auto& c : codes) c = rng() & mask;
+            for (size_t i = 0; i < n / 3; ++i) codes[rng() % n] = codes[rng() % n];
+            std::vector<std::pair<std::uint64_t, std::uint32_t>> pairs(n);
+            for (size_t i = 0; i < n; ++i) pairs[i] = {codes[i], static_cast<std::uint32_t>(i)};
+            std::sort(pairs.begin(), pairs.end());
+            const std::vector<std::uint32_t> order = detail::order_by_code(codes);
+            ASSERT_EQ(order.size(), n);
+            for (size_t k = 0; k < n; ++k)
+                ASSERT_EQ(order[k], pairs[k].second) << bits << " bits, n " << n << ", k " << k;
+        }
+    }
 }
 
 TEST(AccelVersion, EmbreeVersionIsReportedAtRunTime) {
