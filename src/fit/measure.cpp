@@ -68,30 +68,46 @@ int face_segments(int cage_segments, int level) {
     return std::max(1, (cage_segments + (1 << shift) - 1) >> shift);
 }
 
+std::vector<Vec3> input_points(const Mesh& mesh, const MeasureOptions& options) {
+    std::vector<MeshSample> input = sample_by_area(mesh, options.samples, options.seed, options.threads);
+    const std::vector<MeshSample> vertices = sample_vertices(mesh);
+    input.insert(input.end(), vertices.begin(), vertices.end());
+    std::vector<Vec3> out(input.size());
+    for (size_t i = 0; i < input.size(); ++i) out[i] = input[i].point;
+    return out;
+}
+
 ErrorMeasurement measure(const Mesh& mesh, const accel::ClosestPointIndex& mesh_index, const subdiv::LimitSurface& surface,
                          int level, const MeasureOptions& options, MeasureTimes* times) {
     MeasureTimes local;
     MeasureTimes& t = times ? *times : local;
+    const auto clock = std::chrono::steady_clock::now();
+    const MeasuredMesh input{mesh, mesh_index, input_points(mesh, options)};
+    t.evaluation += seconds_since(clock);
+    return measure(input, surface, level, options, &t);
+}
+
+ErrorMeasurement measure(const MeasuredMesh& input, const subdiv::LimitSurface& surface, int level,
+                         const MeasureOptions& options, MeasureTimes* times) {
+    MeasureTimes local;
+    MeasureTimes& t = times ? *times : local;
+    const Mesh& mesh = input.mesh;
     auto clock = std::chrono::steady_clock::now();
     const SurfaceProjector projector(surface, face_segments(options.search_segments, level), options.threads);
+    t.evaluation += seconds_since(clock);
 
     // Input -> surface: area samples and every used vertex.
-    std::vector<MeshSample> input = sample_by_area(mesh, options.samples, options.seed);
-    const std::vector<MeshSample> vertices = sample_vertices(mesh);
-    input.insert(input.end(), vertices.begin(), vertices.end());
-    std::vector<Vec3> input_points(input.size());
-    for (size_t i = 0; i < input.size(); ++i) input_points[i] = input[i].point;
-    t.evaluation += seconds_since(clock);
     clock = std::chrono::steady_clock::now();
     std::vector<double> d_in;  // the projection's own distances: no second evaluation of each foot
-    projector.project(input_points, &d_in);
+    projector.project(input.points, &d_in);
     t.closest_points += seconds_since(clock);
     clock = std::chrono::steady_clock::now();
 
     // Surface -> input: area samples of the tessellation evaluated on the exact surface, and the
     // tessellation's vertices.
     const subdiv::LimitTessellation& tess = projector.tessellation();
-    const std::vector<MeshSample> on_tess = sample_by_area(tess.mesh, options.samples, options.seed + 1);
+    const std::vector<MeshSample> on_tess =
+        sample_by_area(tess.mesh, options.samples, options.seed + 1, options.threads);
     std::vector<Vec3> surface_points(on_tess.size() + tess.mesh.points.size());
     parallel_for(static_cast<int>(on_tess.size()), options.threads, [&](int i) {
         surface_points[i] = surface.evaluate(projector.param_of(on_tess[i].triangle, on_tess[i].bary)).position;
@@ -99,7 +115,7 @@ ErrorMeasurement measure(const Mesh& mesh, const accel::ClosestPointIndex& mesh_
     std::copy(tess.mesh.points.begin(), tess.mesh.points.end(), surface_points.begin() + on_tess.size());
     t.evaluation += seconds_since(clock);
     clock = std::chrono::steady_clock::now();
-    const std::vector<accel::ClosestHit> hits = mesh_index.query_all(surface_points, options.threads);
+    const std::vector<accel::ClosestHit> hits = input.index.query_all(surface_points, options.threads);
     std::vector<double> d_out(hits.size());
     for (size_t i = 0; i < hits.size(); ++i) d_out[i] = hits[i].distance;
     t.closest_points += seconds_since(clock);

@@ -45,9 +45,25 @@ int face_segments(int cage_segments, int level);
 /// a tessellation as a layout cage of as many faces gets (FittedSurface::search_level()).
 int search_level(int faces);
 
+/// The input side's points of measure(): options.samples area samples of the mesh (seed
+/// options.seed), then every used vertex.
+std::vector<Vec3> input_points(const Mesh& mesh, const MeasureOptions& options);
+
+/// A mesh measured against: its index and the input side's points, the same for every surface
+/// measured with the same options (a fit measures each level against them).
+struct MeasuredMesh {
+    const Mesh& mesh;
+    const accel::ClosestPointIndex& index;  ///< Of `mesh`.
+    std::vector<Vec3> points;               ///< input_points(mesh, options) of the options measured with.
+};
+
 /// measure_fit_error() with a ready index of the mesh; `level` is the surface's fit level.
 ErrorMeasurement measure(const Mesh& mesh, const accel::ClosestPointIndex& mesh_index, const subdiv::LimitSurface& surface,
                          int level, const MeasureOptions& options, MeasureTimes* times = nullptr);
+
+/// measure() with the input side's points sampled already (`input`, for the same `options`).
+ErrorMeasurement measure(const MeasuredMesh& input, const subdiv::LimitSurface& surface, int level,
+                         const MeasureOptions& options, MeasureTimes* times = nullptr);
 
 /// RMS, mean and max of distances, summed in index order.
 DistanceStats stats_of(const std::vector<double>& d);

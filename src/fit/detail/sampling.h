@@ -35,8 +35,9 @@ struct MeshSample {
 };
 
 /// `count` points uniformly distributed by area (triangle by cumulative area, then a uniform point
-/// in it). \pre the mesh has a triangle with positive area.
-std::vector<MeshSample> sample_by_area(const Mesh& mesh, int count, std::uint64_t seed);
+/// in it), on `threads` threads (0: all cores); the samples do not depend on the thread count.
+/// \pre the mesh has a triangle with positive area.
+std::vector<MeshSample> sample_by_area(const Mesh& mesh, int count, std::uint64_t seed, int threads = 1);
 
 /// One sample per used vertex (in vertex order), on the first triangle that uses it.
 std::vector<MeshSample> sample_vertices(const Mesh& mesh);
