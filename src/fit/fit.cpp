@@ -436,6 +436,12 @@ void check_clique(const detail::NormalEquations& normal, int face, const Combo& 
              "fit: a stencil on face " + std::to_string(face) + " uses other control points than the face");
 }
 
+/// check_clique() of a stencil's own control points (levels >= 1, where they are the variables).
+void check_clique(const detail::NormalEquations& normal, int face, const std::vector<int>& indices) {
+    QC_CHECK(normal.clique(face) == indices,
+             "fit: a stencil on face " + std::to_string(face) + " uses other control points than the face");
+}
+
 /// Runs the rounds of one level from `state` (variables and correspondences on topo.mesh_level
 /// faces); leaves the best variables and their correspondences in `state`.
 LevelReport fit_level(const Context& ctx, const LevelTopology& topo, subdiv::LimitSurface& surface, LevelState& state) {
@@ -526,14 +532,21 @@ LevelReport fit_level(const Context& ctx, const LevelTopology& topo, subdiv::Lim
         std::vector<Vec3> surf_pos(ns), data_pos(nd), data_normal(nd);
         std::vector<double> surf_weight(ns);
         parallel_for(nd, ctx.threads, [&](int i) {
-            const subdiv::LimitStencil s = surface.stencil(state.data[i].c);
-            Combo c = topo.compose(s.indices, s.position_weights);
-            if (direct) {
-                check_clique(*normal, state.data[i].c.face, c);
-                double* w = data_packed->of_point(i);
-                for (const auto& vw : c) *w++ = vw.second;
+            thread_local subdiv::LimitStencil s;  // storage reused from point to point
+            surface.stencil(state.data[i].c, &s);
+            if (direct && topo.map.empty()) {
+                // The stencil is already on the variables (compose() would copy it as it is).
+                check_clique(*normal, state.data[i].c.face, s.indices);
+                std::copy(s.position_weights.begin(), s.position_weights.end(), data_packed->of_point(i));
             } else {
-                data_combo[i] = std::move(c);
+                Combo c = topo.compose(s.indices, s.position_weights);
+                if (direct) {
+                    check_clique(*normal, state.data[i].c.face, c);
+                    double* w = data_packed->of_point(i);
+                    for (const auto& vw : c) *w++ = vw.second;
+                } else {
+                    data_combo[i] = std::move(c);
+                }
             }
             const subdiv::LimitPoint e = limit_point(surface, s);
             data_pos[i] = e.position;

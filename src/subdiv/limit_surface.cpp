@@ -170,31 +170,40 @@ LimitPoint LimitSurface::evaluate(const FacePoint& p) const {
 }
 
 LimitStencil LimitSurface::stencil(const FacePoint& p) const {
+    LimitStencil out;
+    stencil(p, &out);
+    return out;
+}
+
+void LimitSurface::stencil(const FacePoint& p, LimitStencil* out) const {
     impl_->check_face(p.face);
     const double uv[2] = {std::clamp(p.u, 0.0, 1.0), std::clamp(p.v, 0.0, 1.0)};
     const Surface& s = impl_->surfaces[p.face];
     const std::vector<int>& cv = impl_->cv[p.face];
     const size_t n = cv.size();
-    std::vector<double> w(3 * n);
+    thread_local std::vector<double> w;  // Bfr's weights, per control point of the patch
+    w.resize(3 * n);
     s.EvaluateStencil(uv, w.data(), w.data() + n, w.data() + 2 * n);
     // Merge repeated control points (possible on coarse meshes; Ceres rejects repeated blocks).
-    LimitStencil out;
-    out.indices.reserve(n);
-    out.position_weights.reserve(n);
-    out.du_weights.reserve(n);
-    out.dv_weights.reserve(n);
+    out->indices.clear();
+    out->position_weights.clear();
+    out->du_weights.clear();
+    out->dv_weights.clear();
+    out->indices.reserve(n);
+    out->position_weights.reserve(n);
+    out->du_weights.reserve(n);
+    out->dv_weights.reserve(n);
     for (int i : impl_->cv_order[p.face]) {
-        if (out.indices.empty() || out.indices.back() != cv[i]) {
-            out.indices.push_back(cv[i]);
-            out.position_weights.push_back(0);
-            out.du_weights.push_back(0);
-            out.dv_weights.push_back(0);
+        if (out->indices.empty() || out->indices.back() != cv[i]) {
+            out->indices.push_back(cv[i]);
+            out->position_weights.push_back(0);
+            out->du_weights.push_back(0);
+            out->dv_weights.push_back(0);
         }
-        out.position_weights.back() += w[i];
-        out.du_weights.back() += w[n + i];
-        out.dv_weights.back() += w[2 * n + i];
+        out->position_weights.back() += w[i];
+        out->du_weights.back() += w[n + i];
+        out->dv_weights.back() += w[2 * n + i];
     }
-    return out;
 }
 
 std::vector<int> LimitSurface::face_control_points(int f) const {

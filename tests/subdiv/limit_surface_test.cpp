@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <map>
+#include <memory>
 #include <random>
 #include <string>
 
@@ -60,6 +61,29 @@ TEST(SubdivLimitSurface, StencilWeightsSumToOneAndDerivativeWeightsToZero) {
             EXPECT_NEAR(su, 0.0, 1e-11 * std::max(1.0, max_abs(s.du_weights))) << name;
             EXPECT_NEAR(sv, 0.0, 1e-11 * std::max(1.0, max_abs(s.dv_weights))) << name;
         }
+    }
+}
+
+TEST(SubdivLimitSurface, StencilIntoReusedStorageEqualsAFreshStencil) {
+    // One LimitStencil reused across shapes and faces of other sizes (valence 3, 4 and 5, merged
+    // repeats on the torus cage), in the reverse order of the fresh ones: the same bits.
+    std::vector<std::pair<const LimitSurface*, FacePoint>> points;
+    std::vector<LimitStencil> fresh;
+    std::vector<std::unique_ptr<LimitSurface>> surfaces;
+    for (const auto& [name, mesh] : shapes_to_test()) {
+        surfaces.push_back(std::make_unique<LimitSurface>(mesh));
+        for (const FacePoint& p : sample_points(surfaces.back()->num_faces(), 1, 5)) {
+            points.push_back({surfaces.back().get(), p});
+            fresh.push_back(surfaces.back()->stencil(p));
+        }
+    }
+    LimitStencil reused;
+    for (size_t k = points.size(); k-- > 0;) {
+        points[k].first->stencil(points[k].second, &reused);
+        EXPECT_EQ(reused.indices, fresh[k].indices) << "point " << k;
+        EXPECT_EQ(reused.position_weights, fresh[k].position_weights) << "point " << k;
+        EXPECT_EQ(reused.du_weights, fresh[k].du_weights) << "point " << k;
+        EXPECT_EQ(reused.dv_weights, fresh[k].dv_weights) << "point " << k;
     }
 }
 

@@ -89,6 +89,10 @@ public:
     /// the points' positions). \pre and \throw as evaluate().
     LimitStencil stencil(const FacePoint& p) const;
 
+    /// stencil() into `out`, reusing its storage: a caller that takes many stencils in turn
+    /// (the fit: every data point, every round) allocates once. \pre and \throw as evaluate().
+    void stencil(const FacePoint& p, LimitStencil* out) const;
+
     /// The control points that influence face f (sorted, unique).
     /// \throw InvalidInput if f is out of range.
     std::vector<int> face_control_points(int f) const;
