@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <future>
 #include <limits>
 #include <map>
 #include <memory>
@@ -393,6 +394,11 @@ double update_correspondences(const subdiv::LimitSurface& surface, std::vector<D
     const int n = static_cast<int>(data->size());
     std::vector<Vec3> points(n);
     for (int i = 0; i < n; ++i) points[i] = (*data)[i].p;
+    // 4 segments per face side: 32 triangles per face. Its index is built (in part on one
+    // thread: the triangles, Embree's build) while the local walks run.
+    auto building =
+        std::async(resolve_threads(threads) > 1 ? std::launch::async : std::launch::deferred,
+                   [&] { return std::make_unique<const detail::SurfaceProjector>(surface, 4, threads); });
     // The local walks first: their distances bound the global search.
     std::vector<double> d2(n, std::numeric_limits<double>::infinity()), limit(n);
     parallel_for(n, threads, [&](int i) {
@@ -404,11 +410,12 @@ double update_correspondences(const subdiv::LimitSurface& surface, std::vector<D
         }
         limit[i] = std::sqrt(d2[i]);
     });
-    // 4 segments per face side: 32 triangles per face. A walk from the tessellation's closest
-    // point can only find a closer foot when that point is closer than the local foot (up to the
-    // tessellation's own error), so the search only looks that far: most points are near their
-    // local foot, and the small sphere prunes most of the tessellation.
-    const detail::SurfaceProjector projector(surface, 4, threads);
+    // A walk from the tessellation's closest point can only find a closer foot when that point is
+    // closer than the local foot (up to the tessellation's own error), so the search only looks
+    // that far: most points are near their local foot, and the small sphere prunes most of the
+    // tessellation.
+    const std::unique_ptr<const detail::SurfaceProjector> built = building.get();
+    const detail::SurfaceProjector& projector = *built;
     const std::vector<accel::ClosestHit> seeds = projector.index().query_all_within(points, limit, threads);
     parallel_for(n, threads, [&](int i) {
         if (seeds[i].triangle < 0 || !(seeds[i].distance * seeds[i].distance < d2[i])) return;
