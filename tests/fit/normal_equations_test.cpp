@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "common/blas_threads.h"
+#include "quadcage/core/errors.h"
 #include "quadcage/core/io.h"
 #include "quadcage/fit/fit.h"
 
@@ -74,11 +75,14 @@ Eigen::VectorXd dense_solution(const Problem& p, const Eigen::VectorXd& x0, doub
     Eigen::MatrixXd h = Eigen::MatrixXd::Zero(n3, n3);
     Eigen::VectorXd g = Eigen::VectorXd::Zero(n3);
     for (size_t k = 0; k < p.cliques.size(); ++k) {
+        // The group's rows spread over all columns, block by block (its other columns are zero).
         const auto& c = p.cliques[k];
-        Eigen::MatrixXd full = Eigen::MatrixXd::Zero(p.j[k].rows(), n3);
-        for (size_t a = 0; a < c.size(); ++a) full.middleCols(3 * c[a], 3) = p.j[k].middleCols(3 * a, 3);
-        h += full.transpose() * full;
-        g += full.transpose() * p.b[k];
+        for (size_t a = 0; a < c.size(); ++a) {
+            for (size_t b = 0; b < c.size(); ++b)
+                h.block(3 * c[a], 3 * c[b], 3, 3) +=
+                    p.j[k].middleCols(3 * a, 3).transpose() * p.j[k].middleCols(3 * b, 3);
+            g.segment(3 * c[a], 3) += p.j[k].middleCols(3 * a, 3).transpose() * p.b[k];
+        }
     }
     Eigen::MatrixXd damped = h;
     damped.diagonal() += damping * h.diagonal();
@@ -129,6 +133,40 @@ TEST(NormalEquations, TheResultDoesNotDependOnTheThreadCount) {
         ASSERT_TRUE(eq.solve(x0, 1e-4, &out.back()));
     }
     for (size_t k = 1; k < out.size(); ++k) EXPECT_EQ(out[k], out[0]);
+}
+
+TEST(NormalEquations, ManyBatchesSumInGroupOrderOnAnyThreadCount) {
+    // More groups than one batch of 512 (the batches are summed by a helper thread while the next
+    // is computed): the same bits on 1, 2 and 3 threads, and the dense solution.
+    const Problem p = random_problem(300, 1400, 5);
+    std::vector<double> x0(3 * p.num_vars, -0.5);
+    std::vector<std::vector<double>> out;
+    for (int threads : {1, 2, 3}) {
+        NormalEquations eq(p.num_vars, p.cliques);
+        eq.assemble(group_normal(p), threads);
+        out.emplace_back();
+        ASSERT_TRUE(eq.solve(x0, 1e-4, &out.back()));
+    }
+    for (size_t k = 1; k < out.size(); ++k) EXPECT_EQ(out[k], out[0]);
+    const Eigen::VectorXd expected =
+        dense_solution(p, Eigen::Map<const Eigen::VectorXd>(x0.data(), x0.size()), 1e-4);
+    for (size_t i = 0; i < out[0].size(); ++i)
+        EXPECT_NEAR(out[0][i], expected[i], 1e-8 * (1 + std::abs(expected[i]))) << i;
+}
+
+TEST(NormalEquations, AGroupThatThrowsInALaterBatchIsRethrown) {
+    const Problem p = random_problem(300, 1400, 6);
+    NormalEquations eq(p.num_vars, p.cliques);
+    const NormalEquations::GroupNormal good = group_normal(p);
+    for (int threads : {1, 2}) {
+        EXPECT_THROW(eq.assemble(
+                         [&](int k, Eigen::MatrixXd& jtj, Eigen::VectorXd& jtb) {
+                             if (k == 1200) throw quadcage::InvalidInput("group 1200");
+                             good(k, jtj, jtb);
+                         },
+                         threads),
+                     quadcage::InvalidInput);
+    }
 }
 
 TEST(NormalEquations, ASingularSystemIsReportedNotSolved) {

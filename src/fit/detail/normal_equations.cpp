@@ -3,6 +3,7 @@
 #include <Eigen/CholmodSupport>
 #include <Eigen/SparseCore>
 #include <algorithm>
+#include <future>
 #include <string>
 
 #include "common/blas_threads.h"
@@ -87,23 +88,20 @@ void NormalEquations::assemble(const GroupNormal& group, int threads) {
     const int* outer = h.outerIndexPtr();
     std::fill(values, values + h.nonZeros(), 0.0);
     std::fill(rhs_.begin(), rhs_.end(), 0.0);
-    // Batches: the dense blocks in parallel, then summed in group order.
+    // Batches: the dense blocks in parallel, then summed in group order, by a helper thread while
+    // the next batch's blocks are computed (two sets of blocks in turn). The sums are the same
+    // whatever the thread count: one thread adds every batch, in order.
     const int num_groups = static_cast<int>(cliques_.size());
     constexpr int kBatch = 512;
-    std::vector<Eigen::MatrixXd> jtj(kBatch);
-    std::vector<Eigen::VectorXd> jtb(kBatch);
-    for (int begin = 0; begin < num_groups; begin += kBatch) {
-        const int count = std::min(kBatch, num_groups - begin);
-        parallel_for(count, threads, [&](int i) {
-            const int m3 = 3 * static_cast<int>(cliques_[begin + i].size());
-            jtj[i].setZero(m3, m3);
-            jtb[i].setZero(m3);
-            group(begin + i, jtj[i], jtb[i]);
-        });
+    std::vector<Eigen::MatrixXd> jtj[2] = {std::vector<Eigen::MatrixXd>(kBatch),
+                                           std::vector<Eigen::MatrixXd>(kBatch)};
+    std::vector<Eigen::VectorXd> jtb[2] = {std::vector<Eigen::VectorXd>(kBatch),
+                                           std::vector<Eigen::VectorXd>(kBatch)};
+    auto sum = [&](int begin, int count, int set) {
         for (int i = 0; i < count; ++i) {
             const auto& c = cliques_[begin + i];
             const auto& off = block_offset_[begin + i];
-            const Eigen::MatrixXd& a = jtj[i];
+            const Eigen::MatrixXd& a = jtj[set][i];
             size_t p = 0;
             for (size_t b = 0; b < c.size(); ++b)
                 for (size_t q = 0; q <= b; ++q, ++p) {
@@ -115,9 +113,26 @@ void NormalEquations::assemble(const GroupNormal& group, int threads) {
                     }
                 }
             for (size_t v = 0; v < c.size(); ++v)
-                for (int d = 0; d < 3; ++d) rhs_[3 * c[v] + d] += jtb[i](3 * v + d);
+                for (int d = 0; d < 3; ++d) rhs_[3 * c[v] + d] += jtb[set][i](3 * v + d);
         }
+    };
+    const bool helper = resolve_threads(threads) > 1;
+    std::future<void> summing;  // joins in its destructor if a group throws
+    for (int begin = 0, set = 0; begin < num_groups; begin += kBatch, set ^= 1) {
+        const int count = std::min(kBatch, num_groups - begin);
+        parallel_for(count, threads, [&](int i) {
+            const int m3 = 3 * static_cast<int>(cliques_[begin + i].size());
+            jtj[set][i].setZero(m3, m3);
+            jtb[set][i].setZero(m3);
+            group(begin + i, jtj[set][i], jtb[set][i]);
+        });
+        if (summing.valid()) summing.get();  // the previous batch, from the other set
+        if (helper)
+            summing = std::async(std::launch::async, sum, begin, count, set);
+        else
+            sum(begin, count, set);
     }
+    if (summing.valid()) summing.get();
 }
 
 bool NormalEquations::solve(const std::vector<double>& x, double damping, std::vector<double>* out) {
