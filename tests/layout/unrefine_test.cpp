@@ -72,6 +72,16 @@ std::pair<int, int> interior_edge(const QuadLayout& L, const std::vector<char>& 
     return {-1, -1};
 }
 
+// Per vertex: does a layout edge or a cycle of the orthogonal system run through it.
+std::vector<char> curve_vertices(const QuadLayout& L) {
+    std::vector<char> on(L.mesh.num_vertices(), 0);
+    for (const auto& p : L.edge_paths)
+        for (int v : p) on[v] = 1;
+    for (const auto& c : L.orthogonal_system)
+        for (int v : c) on[v] = 1;
+    return on;
+}
+
 // A torus whose points are jittered, so that no two of its triangles are coplanar (a torus grid
 // cell is a planar trapezoid, whose other diagonal an exact undo may take as well).
 QuadLayout torus_layout() {
@@ -94,11 +104,7 @@ TEST(Unrefine, UndoesSplitsInsidePatchesExactlyAndKeepsEveryCurve) {
         EXPECT_EQ(remove_unused_refinement(&again, &changed), 0)
             << "build_quad_layout() leaves nothing to remove";
     }
-    std::vector<char> on_curve(original.mesh.num_vertices(), 0);
-    for (const auto& p : original.edge_paths)
-        for (int v : p) on_curve[v] = 1;
-    for (const auto& c : original.orthogonal_system)
-        for (int v : c) on_curve[v] = 1;
+    const std::vector<char> on_curve = curve_vertices(original);
 
     QuadLayout L = original;
     // Splits on edges of the input torus (every one a crease: its two faces are not coplanar), a
@@ -151,11 +157,7 @@ TEST(Unrefine, UndoesSplitsInsidePatchesExactlyAndKeepsEveryCurve) {
 
 TEST(Unrefine, KeepsVerticesCurvesRunThroughAndRenumbersThem) {
     const QuadLayout original = torus_layout();
-    std::vector<char> on_curve(original.mesh.num_vertices(), 0);
-    for (const auto& p : original.edge_paths)
-        for (int v : p) on_curve[v] = 1;
-    for (const auto& c : original.orthogonal_system)
-        for (int v : c) on_curve[v] = 1;
+    const std::vector<char> on_curve = curve_vertices(original);
     QuadLayout L = original;
     // An unused split first (lower index), then a split of a layout edge's mesh edge, which the
     // layout edge then runs through: the first goes, the second stays and moves down by one.
