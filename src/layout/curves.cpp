@@ -96,24 +96,28 @@ int Builder::split_chords(const std::vector<Cycle>& extra) {
     return static_cast<int>(chords.size());
 }
 
-int Builder::split_dividing_chords(const std::vector<std::vector<int>>& paths) {
-    // Per vertex, the paths through it (a corner is on several).
-    std::vector<std::vector<int>> on(s_.num_vertices());
-    std::unordered_set<std::uint64_t> path_edges;
-    for (size_t p = 0; p < paths.size(); ++p) {
+PathsThrough::PathsThrough(int num_vertices, const std::vector<std::vector<int>>& paths) : on_(num_vertices) {
+    for (size_t p = 0; p < paths.size(); ++p)
         for (int v : paths[p])
-            if (on[v].empty() || on[v].back() != static_cast<int>(p)) on[v].push_back(static_cast<int>(p));
-        for (size_t i = 0; i + 1 < paths[p].size(); ++i) path_edges.insert(edge_key(paths[p][i], paths[p][i + 1]));
-    }
-    auto share_a_path = [&](int a, int b) {
-        for (int p : on[a])
-            if (std::find(on[b].begin(), on[b].end(), p) != on[b].end()) return true;
-        return false;
-    };
+            if (on_[v].empty() || on_[v].back() != static_cast<int>(p)) on_[v].push_back(static_cast<int>(p));
+}
+
+bool PathsThrough::share_a_path(int a, int b) const {
+    for (int p : on_[a])
+        if (std::find(on_[b].begin(), on_[b].end(), p) != on_[b].end()) return true;
+    return false;
+}
+
+int Builder::split_dividing_chords(const std::vector<std::vector<int>>& paths) {
+    const PathsThrough on(s_.num_vertices(), paths);
+    std::unordered_set<std::uint64_t> path_edges;
+    for (const auto& path : paths)
+        for (size_t i = 0; i + 1 < path.size(); ++i) path_edges.insert(edge_key(path[i], path[i + 1]));
     std::vector<std::pair<int, int>> chords;
     for (int h = 0; h < s_.num_half_edges(); ++h) {
         const int a = s_.from(h), b = s_.to(h);
-        if (a < b && !on[a].empty() && !on[b].empty() && !path_edges.count(edge_key(a, b)) && share_a_path(a, b))
+        if (a < b && on.on_any(a) && on.on_any(b) && !path_edges.count(edge_key(a, b)) &&
+            on.share_a_path(a, b))
             chords.push_back({a, b});
     }
     if (chords.empty()) return 0;

@@ -7,6 +7,7 @@
 #include <limits>
 #include <vector>
 
+#include "detail/curves.h"
 #include "quadcage/core/errors.h"
 
 namespace quadcage::layout::detail {
@@ -37,7 +38,8 @@ double smallest_angle(const Vec3& a, const Vec3& b, const Vec3& c) {
 
 class Collapser {
 public:
-    explicit Collapser(const QuadLayout& L) : points_(L.mesh.points), tri_(L.mesh.triangles) {
+    explicit Collapser(const QuadLayout& L)
+        : points_(L.mesh.points), tri_(L.mesh.triangles), paths_(L.mesh.num_vertices(), L.edge_paths) {
         const int n = L.mesh.num_vertices();
         around_.resize(n);
         for (int t = 0; t < static_cast<int>(tri_.size()); ++t)
@@ -45,13 +47,8 @@ public:
         dead_.assign(tri_.size(), 0);
         keep_.assign(n, 0);
         for (int v = 0; v < L.input_vertices; ++v) keep_[v] = 1;
-        paths_of_.resize(n);
-        for (size_t p = 0; p < L.edge_paths.size(); ++p)
-            for (int v : L.edge_paths[p]) {
-                keep_[v] = 1;
-                if (paths_of_[v].empty() || paths_of_[v].back() != static_cast<int>(p))
-                    paths_of_[v].push_back(static_cast<int>(p));
-            }
+        for (const auto& path : L.edge_paths)
+            for (int v : path) keep_[v] = 1;
         for (const auto* cycles : {&L.orthogonal_system, &L.s_cycles})
             for (const Cycle& c : *cycles)
                 for (int v : c) keep_[v] = 1;
@@ -86,12 +83,6 @@ private:
         std::sort(out.begin(), out.end());
         out.erase(std::unique(out.begin(), out.end()), out.end());
         return out;
-    }
-
-    bool share_a_path(int a, int b) const {
-        for (int p : paths_of_[a])
-            if (std::find(paths_of_[b].begin(), paths_of_[b].end(), p) != paths_of_[b].end()) return true;
-        return false;
     }
 
     // The smallest angle of the triangles m's fan becomes when m moves onto n, or -1 if the move
@@ -131,7 +122,8 @@ private:
             const Vec3 after = cross(pb - pn, pc - pn);
             if (!(dot(after, before) > 0) || !(norm(after) > 1e-14 * size * size)) return -1;
             for (int x : {b, c})
-                if (!std::binary_search(ring_n.begin(), ring_n.end(), x) && share_a_path(n, x)) return -1;
+                if (!std::binary_search(ring_n.begin(), ring_n.end(), x) && paths_.share_a_path(n, x))
+                    return -1;
             least = std::min(least, smallest_angle(pn, pb, pc));
         }
         return least >= std::min(before_least, kSmallestAngle) ? least : -1;
@@ -170,7 +162,7 @@ private:
     std::vector<std::vector<int>> around_;
     std::vector<char> dead_;
     std::vector<char> keep_;
-    std::vector<std::vector<int>> paths_of_;
+    PathsThrough paths_;  // the layout edges: a new edge along one of them would be a dividing chord
     std::vector<int> changed_;
 };
 

@@ -32,6 +32,19 @@ std::pair<int, int> neighbours_on(const Cycle& c, int x);
 /// A key for the undirected edge a-b.
 std::uint64_t edge_key(int a, int b);
 
+/// Which of a set of paths run through each vertex (a path's ends included; a corner is on
+/// several): an edge whose two ends share a path without being part of it is a dividing chord, the
+/// kind a convex-boundary Tutte map flattens (Builder::split_dividing_chords()).
+class PathsThrough {
+public:
+    PathsThrough(int num_vertices, const std::vector<std::vector<int>>& paths);
+    bool on_any(int v) const { return !on_[v].empty(); }
+    bool share_a_path(int a, int b) const;
+
+private:
+    std::vector<std::vector<int>> on_;
+};
+
 /// Up to k vertices spread evenly along a curve, skipping those `skip` rejects.
 std::vector<int> spread(const Cycle& c, int k, const std::function<bool(int)>& skip);
 
