@@ -539,9 +539,9 @@ QuadLayout build_quad_layout(const Mesh& input, const QuadLayoutOptions& options
         // curve runs through once the layout is chosen are undone, and the patches where that
         // happened mapped again.
         const auto start = std::chrono::steady_clock::now();
-        QuadLayout lean = out;
+        QuadLayout lean;
         std::vector<char> changed;
-        if (const int removed = detail::remove_unused_refinement(&lean, &changed); removed > 0) {
+        if (const int removed = detail::remove_unused_refinement(out, &lean, &changed); removed > 0) {
             detail::parameterize_patches(&lean, &changed);
             if (const std::string problem = verify_quad_layout(lean); problem.empty()) {
                 detail::measure_quality(&lean);

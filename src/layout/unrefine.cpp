@@ -168,14 +168,13 @@ private:
 
 }  // namespace
 
-int remove_unused_refinement(QuadLayout* layout, std::vector<char>* changed) {
-    QuadLayout& L = *layout;
+int remove_unused_refinement(const QuadLayout& L, QuadLayout* out, std::vector<char>* changed) {
     QC_CHECK(L.corner_uv.size() == L.mesh.triangles.size(),
              "remove_unused_refinement: the layout has no patch maps");
     Collapser c(L);
     const int removed = c.run(L.input_vertices);
-    changed->assign(L.cage.num_quads(), 0);
     if (removed == 0) return 0;
+    changed->assign(L.cage.num_quads(), 0);
     for (int t : c.changed()) (*changed)[L.triangle_patch[t]] = 1;
     const int n = L.mesh.num_vertices();
     std::vector<int> id(n, -1);
@@ -203,13 +202,14 @@ int remove_unused_refinement(QuadLayout* layout, std::vector<char>* changed) {
             v = id[v];
         }
     };
-    for (auto& p : L.edge_paths) renumber(p);
-    for (auto& cycle : L.orthogonal_system) renumber(cycle);
-    for (auto& cycle : L.s_cycles) renumber(cycle);
-    renumber(L.corner_vertex);
-    L.mesh = std::move(mesh);
-    L.triangle_patch = std::move(patch);
-    L.corner_uv = std::move(uv);
+    *out = L;
+    for (auto& p : out->edge_paths) renumber(p);
+    for (auto& cycle : out->orthogonal_system) renumber(cycle);
+    for (auto& cycle : out->s_cycles) renumber(cycle);
+    renumber(out->corner_vertex);
+    out->mesh = std::move(mesh);
+    out->triangle_patch = std::move(patch);
+    out->corner_uv = std::move(uv);
     return removed;
 }
 

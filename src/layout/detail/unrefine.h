@@ -19,10 +19,11 @@ namespace quadcage::layout::detail {
 /// it), over passes until one removes nothing. Every kept vertex stays where it is; vertices are
 /// renumbered in their order (the input's first, unchanged), and the mesh, triangle_patch,
 /// corner_vertex, edge_paths, the cycles and the corner_uv of the triangles kept as they were follow.
-/// The patches where a vertex was removed are marked in *changed (one flag per cage quad): map them
-/// again (parameterize_patches() with `only`) and verify the result. quality is not recomputed.
-/// Returns the number of vertices removed.
+/// Returns the number of vertices removed. Only if that is not 0, *out is set to the layout without
+/// them (nothing is copied otherwise), and the patches where a vertex was removed are marked in
+/// *changed (one flag per cage quad): map them again (parameterize_patches() with `only`) and verify
+/// the result. quality is not recomputed.
 /// \pre layout is a verified layout (verify_quad_layout() returns "").
-int remove_unused_refinement(QuadLayout* layout, std::vector<char>* changed);
+int remove_unused_refinement(const QuadLayout& layout, QuadLayout* out, std::vector<char>* changed);
 
 }  // namespace quadcage::layout::detail
