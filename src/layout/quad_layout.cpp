@@ -345,7 +345,8 @@ QuadLayout build_variant(const Mesh& input, const Cycles& cycles, const QuadLayo
                         // angle deviation 15.7 -> 31.5 deg). The unrelaxed layout is kept when it
                         // is better in both figures. Only the torus's decomposition is chosen so:
                         // elsewhere the unrelaxed layout was never kept, and mapping and verifying
-                        // it cost botijo 0.3 s, skull 0.55 s and igea 1.3 s.
+                        // it cost botijo 0.3 s and skull 0.55 s (timed), igea under 1.3 s (the
+                        // interval between the progress lines round it).
                         std::optional<Builder> plain_builder;
                         QuadLayout plain;
                         bool keep_plain = false;
