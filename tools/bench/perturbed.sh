@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # `quadcage layout` on the shared meshes and on jittered copies of them (tools/bench/jitter.py:
-# every vertex moved by up to AMPLITUDE times the mean edge length, the faces kept), which stand for
-# other scans of the same shapes: the project's results are also checked on scans it does not have.
+# each coordinate of every vertex moved by up to AMPLITUDE times the mean edge length, the faces
+# kept), which stand for other scans of the same shapes: the project's results are also checked on
+# scans it does not have.
 # Per mesh and seed (seed 0: the file itself): vertices added against issue 20's bound (a quarter of
 # the input's vertices plus 200 per corner), ../shared/tools/check_layout.py (--patches, --cage,
 # --input) and its patch area max/min and corner angle deviation. Reports; asserts nothing.
@@ -19,7 +20,7 @@ while [ $# -gt 0 ]; do
   case "$1" in
     --amplitude) amplitude=$2; shift 2 ;;
     --seeds) seeds=$2; shift 2 ;;
-    -h|--help) sed -n '2,11p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,12p' "$0"; exit 0 ;;
     *) if [ -d "$1" ]; then build=$(realpath "$1"); else meshes+=("$(realpath "$1")"); fi; shift ;;
   esac
 done
