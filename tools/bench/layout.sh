@@ -85,5 +85,7 @@ PY
   else
     echo; echo "botijo: QuadriFlow failed: $(tail -1 "$work/qf.log")"
   fi
+elif [ ${#plates[@]} -eq 0 ]; then
+  echo; echo "botijo: QuadriFlow not timed: blender is not on PATH (Debian's package blender)"
 fi
 exit 0
