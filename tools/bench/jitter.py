@@ -6,8 +6,8 @@
 IN is an ASCII OFF or OBJ triangle mesh. Each coordinate of each vertex moves by a uniform random
 amount in [-AMPLITUDE, AMPLITUDE] times the mean edge length; the faces are kept, so the copy has
 the input's connectivity and genus. SEED makes the copy reproducible (Python's own generator,
-no numpy). The copy stands for another scan of the same shape: the same topology, no two triangles
-coplanar, every edge a little longer or shorter.
+no numpy). The copy stands for another scan of the same shape: the same topology, (almost surely)
+no two triangles coplanar, every edge a little longer or shorter.
 """
 import math
 import random
