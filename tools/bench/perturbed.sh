@@ -64,7 +64,7 @@ q = json.loads(open(sys.argv[2]).read().strip().splitlines()[-1])
 added, bound = r['vertices_added'], r['vertices_added_bound']
 print('| %s | %s | %d | %d | %d | %d | %s | %s | %.3g | %.1f | %.1f |' % (
     sys.argv[3], sys.argv[4], r['genus'], r['input_vertices'], added, bound,
-    'yes' if added <= bound else '**no**', sys.argv[5], q['patch_area_max_over_min'],
+    'yes' if r['vertices_added_within_bound'] else '**no**', sys.argv[5], q['patch_area_max_over_min'],
     q['corner_angle_mean_deviation_deg'], float(sys.argv[7]) - float(sys.argv[6])))
 PY
   done
