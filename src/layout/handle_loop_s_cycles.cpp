@@ -123,14 +123,18 @@ int offset_loop(Builder& b, int m, int side) {
     return b.add_curve(loop);
 }
 
-// Whether S-cycles made[0] and made[1] bound one piece (an annulus) that holds curve c: cut by s_ids.
+// Whether S-cycles made[0] and made[1] bound one piece that holds curve c, cut by s_ids, and that
+// piece is an annulus: two holes alone do not say so, for a band round a handle loop can take in a
+// whole small handle beside it (a torus with two holes; a jittered copy of boot.obj's laces did).
 bool bounds_annulus(const Builder& b, const Cycle& c, const std::vector<int>& s_ids,
                     const std::array<int, 2>& made) {
     const Cut cut = cut_by(b, s_ids);
-    const auto& around = cut.holes.at(cut.label[triangle_beside(b.s_, c, 0)]);
+    const int piece = cut.label[triangle_beside(b.s_, c, 0)];
+    const auto& around = cut.holes.at(piece);
     return around.size() == 2 && around[0].curve != around[1].curve &&
            std::all_of(around.begin(), around.end(),
-                       [&](const Hole& h) { return h.curve == made[0] || h.curve == made[1]; });
+                       [&](const Hole& h) { return h.curve == made[0] || h.curve == made[1]; }) &&
+           piece_euler_characteristic(b.s_, cut.label, piece) == 0;
 }
 
 // The handle annulus round handle loop m: two S-cycles parallel to m, one on each side at distance

@@ -90,6 +90,26 @@ std::vector<char> outside_piece(const Surface& s, const std::vector<int>& label,
     return out;
 }
 
+int piece_euler_characteristic(const Surface& s, const std::vector<int>& label, int piece) {
+    std::vector<int> vertices;
+    std::vector<std::uint64_t> edges;
+    long faces = 0;
+    for (int t = 0; t < static_cast<int>(label.size()); ++t) {
+        if (label[t] != piece) continue;
+        ++faces;
+        const Triangle& tri = s.mesh().triangles[t];
+        for (int k = 0; k < 3; ++k) {
+            vertices.push_back(tri[k]);
+            edges.push_back(edge_key(tri[k], tri[(k + 1) % 3]));
+        }
+    }
+    std::sort(vertices.begin(), vertices.end());
+    std::sort(edges.begin(), edges.end());
+    const long v = std::unique(vertices.begin(), vertices.end()) - vertices.begin();
+    const long e = std::unique(edges.begin(), edges.end()) - edges.begin();
+    return static_cast<int>(v - e + faces);
+}
+
 std::vector<int> slice(const std::vector<int>& v, int from, int to) {  // [from, to)
     from = std::max(from, 0);
     to = std::min(to, static_cast<int>(v.size()));

@@ -87,6 +87,10 @@ std::vector<int> side_toward(const Surface& s, const Cycle& c, int x, const std:
 /// Vertices that touch no triangle of `piece`.
 std::vector<char> outside_piece(const Surface& s, const std::vector<int>& label, int piece);
 
+/// The Euler characteristic V - E + F of piece `piece` (triangles labelled so), its boundary
+/// included: 0 for an annulus, -2 for a four-holed sphere or a torus with two holes.
+int piece_euler_characteristic(const Surface& s, const std::vector<int>& label, int piece);
+
 /// Elements [from, to) of v, clamped to its range.
 std::vector<int> slice(const std::vector<int>& v, int from, int to);
 
