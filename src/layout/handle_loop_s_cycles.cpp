@@ -4,8 +4,10 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <map>
+#include <numeric>
 #include <optional>
 #include <string>
 #include <unordered_set>
@@ -30,6 +32,14 @@ constexpr double kShun = 10.0;
 // fails, and up to how many holes the plan is made (one bit per hole).
 constexpr size_t kTshirtChoices = 4;
 constexpr int kMaxPlannedHoles = 62;
+
+// The tree of T-shirts is cut when its separation penalty is below this fraction of the chain's.
+// A tree that only takes the complement of a chain's sets costs the same (fertility: both
+// 1.55e-3) and botijo's costs 0.98 of its chain's; both keep the chain, whose level-3 fits were
+// the closer (botijo check_fit RMS 7.7e-4 against 9.3e-4). Boot's tree costs 0.53 of its chain's,
+// input_wheel's 0.71, a plate of genus 10's 0.50: their chains nest every annulus round the
+// cluster of holes and wrap the body in bands.
+constexpr double kTreeGain = 0.9;
 
 // How many times cut_tshirt() makes room for its loops before it gives up, and how many times it
 // makes room for the outer loop beside one inner loop.
@@ -412,25 +422,42 @@ std::optional<BodyCut> cut_tshirt(Builder w, std::vector<int> ids, int last, con
     return std::nullopt;
 }
 
+// The penalty of a body annulus round the holes in `set` (one bit per hole, indices into `gap`,
+// their distances in the body): the sum over a in the set and b not of 1 / gap(a, b)^2, large where
+// the annulus must squeeze between holes close together. A set and its complement cost the same.
+class Separation {
+public:
+    explicit Separation(const std::vector<std::vector<double>>& gap) : n_(static_cast<int>(gap.size())) {
+        weight_.assign(n_, std::vector<double>(n_, 0));
+        for (int i = 0; i < n_; ++i)
+            for (int j = 0; j < n_; ++j)
+                if (i != j) weight_[i][j] = 1 / std::max(gap[i][j] * gap[i][j], 1e-12);
+    }
+    double weight(int a, int b) const { return weight_[a][b]; }
+    double operator()(std::uint64_t set) const {
+        double p = 0;
+        for (int a = 0; a < n_; ++a)
+            if (set >> a & 1)
+                for (int b = 0; b < n_; ++b)
+                    if (!(set >> b & 1)) p += weight_[a][b];
+        return p;
+    }
+
+private:
+    int n_;
+    std::vector<std::vector<double>> weight_;
+};
+
+}  // namespace
+
 // The order in which T-shirts take the body's 2g holes (indices into `gap`, their distances in
 // the body): g-1 groups of 3, 2, ..., 2, 3, so that body annulus k separates A_k, the holes of the
-// first k groups, from the rest. Minimizes the sum over k of sum_{a in A_k, b not} 1/gap(a, b)^2:
-// holes close together go to the same side of every body annulus, so that no annulus has to
-// squeeze between them. Exact (over the subsets of holes) up to 16 holes, greedy beyond.
-std::vector<std::vector<int>> tshirt_plan(const std::vector<std::vector<double>>& gap) {
+// first k groups, from the rest. Minimizes the sum over k of Separation(A_k): holes close together
+// go to the same side of every body annulus, so that no annulus has to squeeze between them. Exact
+// (over the subsets of holes) up to 16 holes, greedy beyond. *penalty: that sum.
+std::vector<std::vector<int>> tshirt_plan(const std::vector<std::vector<double>>& gap, double* penalty) {
     const int n = static_cast<int>(gap.size());
-    std::vector<std::vector<double>> weight(n, std::vector<double>(n, 0));
-    for (int i = 0; i < n; ++i)
-        for (int j = 0; j < n; ++j)
-            if (i != j) weight[i][j] = 1 / std::max(gap[i][j] * gap[i][j], 1e-12);
-    auto separation = [&](std::uint64_t set) {  // the penalty of an annulus round `set`
-        double p = 0;
-        for (int a = 0; a < n; ++a)
-            if (set >> a & 1)
-                for (int b = 0; b < n; ++b)
-                    if (!(set >> b & 1)) p += weight[a][b];
-        return p;
-    };
+    const Separation separation(gap);
     auto members = [n](std::uint64_t set) {
         std::vector<int> m;
         for (int a = 0; a < n; ++a)
@@ -465,9 +492,11 @@ std::vector<std::vector<int>> tshirt_plan(const std::vector<std::vector<double>>
         for (std::uint64_t set = 1; set <= all; ++set)
             if (__builtin_popcountll(set) == n - 3 && (end == 0 || best[set] < best[end])) end = set;
         for (std::uint64_t set = end; set != 0; set = from[set]) chain.insert(chain.begin(), set);
+        *penalty = end != 0 ? best[end] : 0;
     } else {
         // Each step adds the triple (first) or pair of holes that adds the least penalty.
         std::uint64_t set = 0;
+        *penalty = 0;
         for (int step = 0; step < steps; ++step) {
             std::uint64_t pick = 0;
             double least = kInf;
@@ -486,6 +515,7 @@ std::vector<std::vector<int>> tshirt_plan(const std::vector<std::vector<double>>
                 }
             set = pick;
             chain.push_back(set);
+            *penalty += least;
         }
     }
     std::vector<std::vector<int>> groups;
@@ -498,6 +528,76 @@ std::vector<std::vector<int>> tshirt_plan(const std::vector<std::vector<double>>
     groups.push_back(members(all & ~before));
     return groups;
 }
+
+TshirtTree::TshirtTree(const std::vector<std::vector<double>>& gap) {
+    const int n = static_cast<int>(gap.size());
+    const Separation separation(gap);
+    cross_.assign(n, std::vector<double>(n, 0));
+    for (int i = 0; i < n; ++i) {
+        out_.push_back(separation(std::uint64_t{1} << i));
+        open_.push_back(i);
+        for (int j = 0; j < n; ++j)
+            if (i != j) cross_[i][j] = separation.weight(i, j);
+    }
+}
+
+std::vector<std::pair<double, std::array<int, 3>>> TshirtTree::cheapest(size_t count) const {
+    std::vector<std::pair<double, std::array<int, 3>>> best;  // sorted, at most count
+    const size_t n = open_.size();
+    for (size_t a = 0; a < n; ++a)
+        for (size_t b = a + 1; b < n; ++b)
+            for (size_t c = b + 1; c < n; ++c) {
+                const int x = open_[a], y = open_[b], z = open_[c];
+                const double p = out_[x] + out_[y] + out_[z] - cross_[x][y] - cross_[y][x] - cross_[x][z] -
+                                 cross_[z][x] - cross_[y][z] - cross_[z][y];
+                if (best.size() == count && !(p < best.back().first)) continue;
+                const std::pair<double, std::array<int, 3>> t{p, {x, y, z}};
+                // After the ones no dearer: ties keep the order of enumeration.
+                best.insert(std::upper_bound(best.begin(), best.end(), t,
+                                             [](const auto& u, const auto& v) { return u.first < v.first; }),
+                            t);
+                if (best.size() > count) best.pop_back();
+            }
+    return best;
+}
+
+int TshirtTree::merge(const std::array<int, 3>& t) {
+    const int m = static_cast<int>(out_.size());
+    double p = 0;
+    for (int x : t) {
+        p += out_[x];
+        for (int y : t)
+            if (y != x) p -= cross_[x][y];
+    }
+    out_.push_back(p);
+    for (auto& row : cross_) row.push_back(0);
+    cross_.emplace_back(m + 1, 0.0);
+    for (int r = 0; r < m; ++r)
+        for (int x : t) {
+            cross_[m][r] += cross_[x][r];
+            cross_[r][m] += cross_[r][x];
+        }
+    open_.erase(std::remove_if(open_.begin(), open_.end(),
+                               [&t](int x) { return x == t[0] || x == t[1] || x == t[2]; }),
+                open_.end());
+    open_.push_back(m);
+    return m;
+}
+
+std::vector<std::array<int, 3>> tshirt_tree(const std::vector<std::vector<double>>& gap, double* penalty) {
+    TshirtTree tree(gap);
+    std::vector<std::array<int, 3>> merges;
+    *penalty = 0;
+    while (tree.open().size() > 4) {
+        const auto [cost, t] = tree.cheapest(1).front();
+        *penalty += cost;
+        merges.push_back(t);
+        tree.merge(t);
+    }
+    return merges;
+}
+
+namespace {
 
 // The triples of holes a T-shirt may take next, most compact first: each hole with the hole
 // nearest it and the hole nearest those two (the first body), or the last annulus' S-cycle with
@@ -532,6 +632,112 @@ std::vector<std::vector<int>> tshirt_choices(const std::vector<std::vector<doubl
     std::vector<std::vector<int>> out;
     for (size_t i = 0; i < std::min(count, found.size()); ++i) out.push_back(found[i].second);
     return out;
+}
+
+// Cuts the body (the sphere with 2g holes the handle annuli leave in w) into g-1 T-shirts with
+// g-2 annuli. As a tree of T-shirts (TshirtTree) where its plan separates markedly fewer close
+// holes than the chain's (tshirt_plan()): each cut takes the cheapest of the open nodes' triples
+// that cuts, of the kTshirtChoices cheapest; when none does, the attempt ends (*tree_failed_at: the
+// cut, from 0). Else as the chain, a failed cut of the plan falling back to compact choices
+// (tshirt_choices()). `unit`: one quad's share of the area. Returns w with the S-cycles added, and
+// all of them.
+std::optional<BodyCut> cut_body(Builder w, std::vector<int> ids, int g, double unit, bool allow_tree,
+                                int* tree_failed_at, const Say& say) {
+    int last = -1;                       // outer S-cycle of the last body annulus
+    std::vector<std::vector<int>> plan;  // the chain: per T-shirt, the holes it takes
+    std::optional<TshirtTree> tree;      // or the tree,
+    std::vector<int> node_curve;         // and per node of it, its curve
+    for (int k = 0; k + 2 < g; ++k) {
+        say("body annulus " + std::to_string(k + 1) + " of " + std::to_string(g - 2) + surface_size(w));
+        const Surface& s = w.s_;
+        const Cut cut = cut_by(w, ids);
+        const int body = body_piece(cut, last, g);
+        if (body < 0) return std::nullopt;
+        const std::vector<char> block = outside_piece(s, cut.label, body);
+        std::vector<int> holes;
+        for (const Hole& h : cut.holes.at(body)) holes.push_back(h.curve);
+        const int n = static_cast<int>(holes.size());
+        std::vector<std::vector<double>> gap;  // distances in the body between holes, when first needed
+        auto hole_gaps = [&]() -> const std::vector<std::vector<double>>& {
+            if (!gap.empty()) return gap;
+            gap.assign(n, std::vector<double>(n, kInf));
+            for (int i = 0; i < n; ++i) {
+                const std::vector<double> d = distances_from(s, block, w.curves_[holes[i]]);
+                for (int j = 0; j < n; ++j)
+                    for (int v : w.curves_[holes[j]]) gap[i][j] = std::min(gap[i][j], d[v]);
+            }
+            return gap;
+        };
+        // The body left holds T-shirts k..g-2 (6 units each) and annuli k..g-3 (2 each).
+        const double units = 6.0 * (g - 1 - k) + 2.0 * (g - 2 - k);
+        auto cut_off = [&](const std::vector<int>& C) {  // the T-shirt takes the holes C
+            std::vector<int> D;
+            for (int h : holes)
+                if (std::find(C.begin(), C.end(), h) == C.end()) D.push_back(h);
+            return cut_tshirt(w, ids, last, C, D, g, units, unit);
+        };
+        auto take = [&](const std::vector<int>& group) {  // the T-shirt takes `last` and `group`
+            std::vector<int> C;
+            if (last >= 0) C.push_back(last);
+            for (int h : group)
+                if (h != last) C.push_back(h);
+            return cut_off(C);
+        };
+        if (k == 0 && n <= kMaxPlannedHoles) {
+            double chain_penalty = 0, tree_penalty = 0;
+            for (const std::vector<int>& group : tshirt_plan(hole_gaps(), &chain_penalty)) {
+                plan.emplace_back();
+                for (int i : group) plan.back().push_back(holes[i]);
+            }
+            if (allow_tree) {
+                tshirt_tree(hole_gaps(), &tree_penalty);
+                const bool use = tree_penalty < kTreeGain * chain_penalty;
+                char line[160];
+                std::snprintf(line, sizeof line,
+                              "T-shirts: separation %.3g as a tree, %.3g as a chain; cutting the %s",
+                              tree_penalty, chain_penalty, use ? "tree" : "chain");
+                say(line);
+                if (use) {
+                    tree.emplace(hole_gaps());
+                    node_curve = holes;
+                    plan.clear();
+                }
+            }
+        }
+        std::optional<BodyCut> best;
+        if (tree) {
+            for (const auto& [cost, t] : tree->cheapest(kTshirtChoices)) {
+                std::vector<int> C;
+                for (int x : t) C.push_back(node_curve[x]);
+                if ((best = cut_off(C))) {
+                    tree->merge(t);
+                    node_curve.push_back(best->outer);
+                    break;
+                }
+            }
+            if (!best) {
+                if (tree_failed_at) *tree_failed_at = k;
+                return std::nullopt;
+            }
+        } else if (k < static_cast<int>(plan.size())) {
+            best = take(plan[k]);
+        }
+        if (!best) {  // no plan, or it failed: from here on, holes near each other
+            plan.clear();
+            const int last_index =
+                last < 0 ? -1 : static_cast<int>(std::find(holes.begin(), holes.end(), last) - holes.begin());
+            for (const std::vector<int>& t : tshirt_choices(hole_gaps(), last_index, kTshirtChoices)) {
+                std::vector<int> group;
+                for (int i : t) group.push_back(holes[i]);
+                if ((best = take(group))) break;
+            }
+        }
+        if (!best) return std::nullopt;
+        w = std::move(best->b);
+        ids = std::move(best->ids);
+        last = best->outer;
+    }
+    return BodyCut{std::move(w), std::move(ids), last};
 }
 
 }  // namespace
@@ -585,62 +791,15 @@ std::optional<std::vector<int>> tube_s_cycles(Builder& b, const std::vector<int>
         }
         if (!ok) return std::nullopt;
     }
-    int last = -1;  // outer S-cycle of the last body annulus
-    std::vector<std::vector<int>> plan;  // per T-shirt, the holes it takes (tshirt_plan)
-    for (int k = 0; k + 2 < g; ++k) {
-        say("body annulus " + std::to_string(k + 1) + " of " + std::to_string(g - 2) + surface_size(w));
-        const Surface& s = w.s_;
-        const Cut cut = cut_by(w, ids);
-        const int body = body_piece(cut, last, g);
-        if (body < 0) return std::nullopt;
-        const std::vector<char> block = outside_piece(s, cut.label, body);
-        std::vector<int> holes;
-        for (const Hole& h : cut.holes.at(body)) holes.push_back(h.curve);
-        const int n = static_cast<int>(holes.size());
-        std::vector<std::vector<double>> gap;  // distances in the body between holes, when first needed
-        auto hole_gaps = [&]() -> const std::vector<std::vector<double>>& {
-            if (!gap.empty()) return gap;
-            gap.assign(n, std::vector<double>(n, kInf));
-            for (int i = 0; i < n; ++i) {
-                const std::vector<double> d = distances_from(s, block, w.curves_[holes[i]]);
-                for (int j = 0; j < n; ++j)
-                    for (int v : w.curves_[holes[j]]) gap[i][j] = std::min(gap[i][j], d[v]);
-            }
-            return gap;
-        };
-        // The body left holds T-shirts k..g-2 (6 units each) and annuli k..g-3 (2 each).
-        const double units = 6.0 * (g - 1 - k) + 2.0 * (g - 2 - k);
-        auto take = [&](const std::vector<int>& group) {  // the T-shirt takes `last` and `group`
-            std::vector<int> C, D;
-            if (last >= 0) C.push_back(last);
-            for (int h : group)
-                if (h != last) C.push_back(h);
-            for (int h : holes)
-                if (std::find(C.begin(), C.end(), h) == C.end()) D.push_back(h);
-            return cut_tshirt(w, ids, last, C, D, g, units, unit);
-        };
-        if (k == 0 && n <= kMaxPlannedHoles)
-            for (const std::vector<int>& group : tshirt_plan(hole_gaps())) {
-                plan.emplace_back();
-                for (int i : group) plan.back().push_back(holes[i]);
-            }
-        std::optional<BodyCut> best;
-        if (k < static_cast<int>(plan.size())) best = take(plan[k]);
-        if (!best) {  // no plan, or it failed: from here on, holes near each other
-            plan.clear();
-            const int last_index =
-                last < 0 ? -1 : static_cast<int>(std::find(holes.begin(), holes.end(), last) - holes.begin());
-            for (const std::vector<int>& t : tshirt_choices(hole_gaps(), last_index, kTshirtChoices)) {
-                std::vector<int> group;
-                for (int i : t) group.push_back(holes[i]);
-                if ((best = take(group))) break;
-            }
-        }
-        if (!best) return std::nullopt;
-        w = std::move(best->b);
-        ids = std::move(best->ids);
-        last = best->outer;
+    int tree_failed_at = -1;
+    std::optional<BodyCut> cut = cut_body(w, ids, g, unit, true, &tree_failed_at, say);
+    if (!cut && tree_failed_at >= 0) {
+        say("T-shirts: cut " + std::to_string(tree_failed_at + 1) + " of the tree failed; the chain instead");
+        cut = cut_body(w, ids, g, unit, false, nullptr, say);
     }
+    if (!cut) return std::nullopt;
+    w = std::move(cut->b);
+    ids = std::move(cut->ids);
     try {
         find_pieces(w, ids, g);
     } catch (const InternalError&) {

@@ -132,14 +132,49 @@ std::vector<int> place_s_cycles(Builder& b, int g, const Say& say);
 
 /// S-cycles from the handle loops (an alternative to Algorithm 1 that gives the same pieces):
 /// each handle loop a_i becomes a handle (annulus) between two parallel S-cycles; the rest, a
-/// sphere with 2g holes, is cut into g-1 T-shirts by g-2 more annuli (cut_tshirt), the T-shirts
-/// taking the holes in the order of tshirt_plan(); once a cut of the plan fails, each T-shirt takes
-/// the first of a few compact choices (tshirt_choices(): holes near each other for the first, else
-/// the last annulus and two holes near it) that cuts. Areas aim at an even share per quad
-/// (a handle 2, a T-shirt 6). Algorithm 1's S-cycles all cross the orthogonal system once, so on a
+/// sphere with 2g holes, is cut into g-1 T-shirts by g-2 more annuli (cut_tshirt). They take the
+/// holes as a tree (tshirt_tree()) where that separates markedly fewer close holes than the chain
+/// (tshirt_plan()), else, or should a cut of the tree fail, as the chain; once a cut of the chain
+/// fails, each T-shirt takes the first of a few compact choices (tshirt_choices(): holes near each
+/// other for the first, else the last annulus and two holes near it) that cuts. Areas aim at an even share
+/// per quad (a handle 2, a T-shirt 6). Algorithm 1's S-cycles all cross the orthogonal system once, so on a
 /// surface whose handles hang off one body they wind round the body side by side in stacks.
 /// Returns the S-cycles' curve ids, or nothing if some curve cannot be placed (b is then unchanged).
 std::optional<std::vector<int>> tube_s_cycles(Builder& b, const std::vector<int>& loops, int g, const Say& say);
+
+/// The chain of T-shirts over a body's holes (gap[i][j]: the distance in the body from hole i to
+/// hole j; at most 64 holes): g-1 groups of holes, 3, 2, ..., 2, 3, in the order the T-shirts
+/// take them, body annulus k separating the first k groups from the rest. *penalty: the sum of
+/// the annuli's separation penalties (sum over a inside, b outside of 1 / gap(a, b)^2).
+std::vector<std::vector<int>> tshirt_plan(const std::vector<std::vector<double>>& gap, double* penalty);
+
+/// A tree of T-shirts over a body's holes (gap as for tshirt_plan()), cut one T-shirt at a time:
+/// each cut merges three open nodes into one, the T-shirt whose body annulus separates the holes
+/// under them from the rest. Nodes 0..n-1 are the holes, node n + k the outer S-cycle of merge k;
+/// when four are open they bound the last T-shirt. The chain is the tree whose every merge takes
+/// the one before: where the holes crowd into one region its annuli nest round the crowd, wrap the
+/// body in thin bands and each squeezes past every hole, while a tree's annuli round separate
+/// groups lie side by side.
+class TshirtTree {
+public:
+    explicit TshirtTree(const std::vector<std::vector<double>>& gap);
+    /// The open nodes.
+    const std::vector<int>& open() const { return open_; }
+    /// At most `count` triples of open nodes with the separation penalty of their annulus,
+    /// cheapest first (ties in the order of the open nodes).
+    std::vector<std::pair<double, std::array<int, 3>>> cheapest(size_t count) const;
+    /// Merges three open nodes; returns the new node's id.
+    int merge(const std::array<int, 3>& t);
+
+private:
+    std::vector<int> open_;
+    std::vector<double> out_;                 // per node, the separation of an annulus round it
+    std::vector<std::vector<double>> cross_;  // per pair of nodes, the weights from x's holes to y's
+};
+
+/// The greedy tree: g-2 merges, each of the cheapest triple. *penalty: the sum of their annuli's
+/// separation penalties.
+std::vector<std::array<int, 3>> tshirt_tree(const std::vector<std::vector<double>>& gap, double* penalty);
 
 // ---- T-shirts and handles (tshirts_and_handles.cpp)
 
