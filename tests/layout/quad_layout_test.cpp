@@ -504,6 +504,25 @@ TEST_P(QuadLayoutHighGenusHandleLoops, PlateKeepsTheHandleLoopSCycles) {
 }
 INSTANTIATE_TEST_SUITE_P(Plates, QuadLayoutHighGenusHandleLoops, ::testing::Values(10, 12), genus_name);
 
+// A plate of genus 20: at the tree's 8th cut the rings of the other holes walled each chosen hole
+// in, every choice failed, and the chain was cut instead (488,829 vertices added, bound 30,608,
+// 145 s). The choices are tried again with only the other holes as walls (cut_tshirt's
+// `crowded`), and the tree is cut to the end.
+TEST(QuadLayoutTshirtTree, PlateOfGenus20IsCutAsATree) {
+    const Mesh input = plate(20);
+    layout::QuadLayoutOptions o;
+    std::vector<std::string> said;
+    o.progress = [&said](const std::string& m) { said.push_back(m); };
+    const QuadLayout L = build_quad_layout(input, o);
+    expect_valid_layout(L, input, 20);
+    const auto says = [&said](const std::string& part) {
+        return std::any_of(said.begin(), said.end(),
+                           [&part](const std::string& m) { return m.find(part) != std::string::npos; });
+    };
+    EXPECT_TRUE(says("cutting the tree"));
+    EXPECT_FALSE(says("of the tree failed"));
+}
+
 // ---------------------------------------------------------------------------------------------
 // 4. The verifier rejects broken layouts
 
