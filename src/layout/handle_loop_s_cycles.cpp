@@ -643,10 +643,10 @@ std::vector<std::vector<int>> tshirt_choices(const std::vector<std::vector<doubl
 // Cuts the body (the sphere with 2g holes the handle annuli leave in w) into g-1 T-shirts with
 // g-2 annuli. As a tree of T-shirts (TshirtTree) where its plan separates markedly fewer close
 // holes than the chain's (tshirt_plan()): each cut takes the cheapest of the open nodes' triples
-// that cuts, of the kTshirtChoices cheapest; when none does, the attempt ends (*tree_failed_at: the
-// cut, from 0). Else as the chain, a failed cut of the plan falling back to compact choices
-// (tshirt_choices()). `unit`: one quad's share of the area. Returns w with the S-cycles added, and
-// all of them.
+// that cuts, of the kTshirtChoices cheapest; when none does (*tree_failed_at: that cut, from 0),
+// the cuts left take the chain's compact choices. Else as the chain, a failed cut of the plan
+// falling back to those choices (tshirt_choices()). `unit`: one quad's share of the area. Returns w
+// with the S-cycles added, and all of them.
 std::optional<BodyCut> cut_body(Builder w, std::vector<int> ids, int g, double unit, bool allow_tree,
                                 int* tree_failed_at, const Say& say) {
     int last = -1;                       // outer S-cycle of the last body annulus
@@ -727,9 +727,11 @@ std::optional<BodyCut> cut_body(Builder w, std::vector<int> ids, int g, double u
                 }
                 if (best) break;
             }
-            if (!best) {
+            if (!best) {  // the chain's choices from here on (the tree's cuts so far stay)
+                say("T-shirts: no triple of the tree cuts at cut " + std::to_string(k + 1) +
+                    "; the chain's choices from there");
+                tree.reset();
                 if (tree_failed_at) *tree_failed_at = k;
-                return std::nullopt;
             }
         } else if (k < static_cast<int>(plan.size())) {
             best = take(plan[k]);
@@ -806,7 +808,8 @@ std::optional<std::vector<int>> tube_s_cycles(Builder& b, const std::vector<int>
     int tree_failed_at = -1;
     std::optional<BodyCut> cut = cut_body(w, ids, g, unit, true, &tree_failed_at, say);
     if (!cut && tree_failed_at >= 0) {
-        say("T-shirts: cut " + std::to_string(tree_failed_at + 1) + " of the tree failed; the chain instead");
+        say("T-shirts: the tree failed at cut " + std::to_string(tree_failed_at + 1) +
+            "; the chain from the start");
         cut = cut_body(w, ids, g, unit, false, nullptr, say);
     }
     if (!cut) return std::nullopt;
