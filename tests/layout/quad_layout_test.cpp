@@ -89,6 +89,22 @@ void expect_valid_layout(const QuadLayout& L, const Mesh& input, int g) {
     EXPECT_EQ(subdiv::refine_uniform(r.level1, 1).num_quads(), 16 * want_quads(g));  // rejects multi-edges
 }
 
+// The layout of plate(g), checked as expect_valid_layout() does, with its progress messages.
+QuadLayout valid_plate_layout(int g, std::vector<std::string>* said) {
+    const Mesh input = plate(g);
+    layout::QuadLayoutOptions o;
+    o.progress = [said](const std::string& m) { said->push_back(m); };
+    QuadLayout L = build_quad_layout(input, o);
+    expect_valid_layout(L, input, g);
+    return L;
+}
+
+// Whether one of the progress messages `said` contains `part`.
+bool says(const std::vector<std::string>& said, const std::string& part) {
+    return std::any_of(said.begin(), said.end(),
+                       [&part](const std::string& m) { return m.find(part) != std::string::npos; });
+}
+
 // ---------------------------------------------------------------------------------------------
 // 1. Generated solids, genus 0..20
 
@@ -410,12 +426,8 @@ TEST(QuadLayoutHandleLoopSCycles, PlatesUseThemAndVerify) {
             const QuadLayout L = build_quad_layout(input, o);
             expect_valid_layout(L, input, g);
             EXPECT_EQ(L.s_cycles.size(), static_cast<size_t>(4 * g - 4));
-            const auto says = [&said](const std::string& part) {
-                return std::any_of(said.begin(), said.end(),
-                                   [&part](const std::string& m) { return m.find(part) != std::string::npos; });
-            };
-            EXPECT_EQ(says("handle annulus"), from_handle_loops);
-            EXPECT_FALSE(says("Algorithm 1's instead"));
+            EXPECT_EQ(says(said, "handle annulus"), from_handle_loops);
+            EXPECT_FALSE(says(said, "Algorithm 1's instead"));
         }
     }
 }
@@ -488,18 +500,10 @@ class QuadLayoutHighGenusHandleLoops : public ::testing::TestWithParam<int> {};
 
 TEST_P(QuadLayoutHighGenusHandleLoops, PlateKeepsTheHandleLoopSCycles) {
     const int g = GetParam();
-    const Mesh input = plate(g);
-    layout::QuadLayoutOptions o;
     std::vector<std::string> said;
-    o.progress = [&said](const std::string& m) { said.push_back(m); };
-    const QuadLayout L = build_quad_layout(input, o);
-    expect_valid_layout(L, input, g);
-    const auto says = [&said](const std::string& part) {
-        return std::any_of(said.begin(), said.end(),
-                           [&part](const std::string& m) { return m.find(part) != std::string::npos; });
-    };
-    EXPECT_TRUE(says("body annulus " + std::to_string(g - 2) + " of " + std::to_string(g - 2)));
-    EXPECT_FALSE(says("Algorithm 1's instead"));
+    const QuadLayout L = valid_plate_layout(g, &said);
+    EXPECT_TRUE(says(said, "body annulus " + std::to_string(g - 2) + " of " + std::to_string(g - 2)));
+    EXPECT_FALSE(says(said, "Algorithm 1's instead"));
     EXPECT_EQ(L.s_cycles.size(), static_cast<size_t>(4 * g - 4));
 }
 INSTANTIATE_TEST_SUITE_P(Plates, QuadLayoutHighGenusHandleLoops, ::testing::Values(10, 12), genus_name);
@@ -515,19 +519,13 @@ class QuadLayoutTshirtTree : public ::testing::TestWithParam<int> {};
 
 TEST_P(QuadLayoutTshirtTree, CrowdedPlateKeepsTheTreesCuts) {
     const int g = GetParam();
-    const Mesh input = plate(g);
-    layout::QuadLayoutOptions o;
     std::vector<std::string> said;
-    o.progress = [&said](const std::string& m) { said.push_back(m); };
-    const QuadLayout L = build_quad_layout(input, o);
-    expect_valid_layout(L, input, g);
-    const auto says = [&said](const std::string& part) {
-        return std::any_of(said.begin(), said.end(),
-                           [&part](const std::string& m) { return m.find(part) != std::string::npos; });
-    };
-    EXPECT_TRUE(says("cutting the tree"));
-    EXPECT_FALSE(says("the chain from the start"));
-    if (g == 20) EXPECT_FALSE(says("no triple of the tree cuts"));
+    const QuadLayout L = valid_plate_layout(g, &said);
+    EXPECT_TRUE(says(said, "cutting the tree"));
+    EXPECT_FALSE(says(said, "the chain from the start"));
+    if (g == 20) {
+        EXPECT_FALSE(says(said, "no triple of the tree cuts"));
+    }
 }
 INSTANTIATE_TEST_SUITE_P(Plates, QuadLayoutTshirtTree, ::testing::Values(19, 20), genus_name);
 
