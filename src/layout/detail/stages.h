@@ -133,12 +133,14 @@ std::vector<int> place_s_cycles(Builder& b, int g, const Say& say);
 /// S-cycles from the handle loops (an alternative to Algorithm 1 that gives the same pieces):
 /// each handle loop a_i becomes a handle (annulus) between two parallel S-cycles; the rest, a
 /// sphere with 2g holes, is cut into g-1 T-shirts by g-2 more annuli (cut_tshirt). They take the
-/// holes as a tree (tshirt_tree()) where that separates markedly fewer close holes than the chain
-/// (tshirt_plan()), else, or should a cut of the tree fail, as the chain; once a cut of the chain
-/// fails, each T-shirt takes the first of a few compact choices (tshirt_choices(): holes near each
-/// other for the first, else the last annulus and two holes near it) that cuts. Areas aim at an even share
-/// per quad (a handle 2, a T-shirt 6). Algorithm 1's S-cycles all cross the orthogonal system once, so on a
-/// surface whose handles hang off one body they wind round the body side by side in stacks.
+/// holes as a tree (TshirtTree) where its greedy plan (tshirt_tree()) separates markedly fewer
+/// close holes than the chain's (tshirt_plan()), else as the chain. Once no triple of the tree
+/// cuts, or a cut of the chain's plan fails, each T-shirt takes the first of a few compact choices
+/// (tshirt_choices(): holes near each other for the first, else the last annulus and two holes
+/// near it) that cuts; should those fail after a tree, the chain is cut from the start. Areas aim
+/// at an even share per quad (a handle 2, a T-shirt 6). Algorithm 1's S-cycles all cross the
+/// orthogonal system once, so on a surface whose handles hang off one body they wind round the
+/// body side by side in stacks.
 /// Returns the S-cycles' curve ids, or nothing if some curve cannot be placed (b is then unchanged).
 std::optional<std::vector<int>> tube_s_cycles(Builder& b, const std::vector<int>& loops, int g, const Say& say);
 
