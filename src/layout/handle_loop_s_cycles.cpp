@@ -278,22 +278,19 @@ std::optional<BodyCut> cut_tshirt(Builder w, std::vector<int> ids, int last, con
             }
             return tree;
         };
-        // C's tree keeps a vertex off D's holes and shuns them; D's keeps a vertex off C's tree
-        // and shuns it.
+        // C's tree keeps a vertex off D's holes (crowded: only off the holes themselves) and shuns
+        // them; D's keeps a vertex off C's tree and shuns it.
         std::vector<char> away = block;
         std::vector<int> d_holes;
         for (int c : D)
             for (int v : w.curves_[c]) {
                 d_holes.push_back(v);
                 away[v] = 1;
-                for (int x : s.ring(v)) away[x] = 1;
+                if (!crowded)
+                    for (int x : s.ring(v)) away[x] = 1;
             }
         for (int c : C)
             for (int v : w.curves_[c]) away[v] = block[v];
-        if (crowded) {  // only D's holes themselves are walls, not their rings
-            away = block;
-            for (int v : d_holes) away[v] = 1;
-        }
         const auto c_tree = join(C, away, distance_from(d_holes));
         if (!c_tree) {
             if (w.split_chords(joins) == 0) return std::nullopt;
