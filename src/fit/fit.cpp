@@ -260,6 +260,16 @@ struct DataPoint {
 /// are left unset (face -1) for a projection onto the surface.
 std::vector<DataPoint> make_data_points(const Mesh& mesh, const layout::QuadLayout* layout, const FitOptions& options) {
     std::vector<detail::MeshSample> vertices = detail::sample_vertices(mesh);
+    // The input's vertices, not those the layout added: those lie along the layout edges (the
+    // smoothed edges add one where they cross a mesh edge), where they would weigh the fit towards
+    // the patch boundaries. The layout mesh's first vertices are the input's.
+    if (layout)
+        vertices.erase(std::remove_if(vertices.begin(), vertices.end(),
+                                      [&](const detail::MeshSample& s) {
+                                          const int k = s.bary[0] == 1 ? 0 : s.bary[1] == 1 ? 1 : 2;
+                                          return mesh.triangles[s.triangle][k] >= layout->input_vertices;
+                                      }),
+                       vertices.end());
     const std::vector<detail::MeshSample> area = detail::sample_by_area(mesh, options.area_samples, options.seed);
     const size_t cap = static_cast<size_t>(options.max_data_points);
     if (area.size() >= cap) vertices.clear();
