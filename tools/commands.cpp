@@ -167,6 +167,7 @@ void apply(const EmbeddingFlags& flags, layout::QuadLayoutOptions* options) {
     options->embedding_area_weight = flags.area_weight;
     options->embedding_conformal_weight = flags.conformal_weight;
     options->embedding_cone_sweeps = flags.cone_sweeps;
+    options->smooth_edges = !flags.staircase_edges;
 }
 
 // The shortest of %.15g and %.17g that reads back as x.
@@ -191,6 +192,7 @@ std::vector<std::string> embedding_arguments(const EmbeddingFlags& flags) {
         args.insert(args.end(), {"--embedding-conformal-weight", exact_number(flags.conformal_weight)});
     if (flags.cone_sweeps != defaults.cone_sweeps)
         args.insert(args.end(), {"--embedding-cone-sweeps", std::to_string(flags.cone_sweeps)});
+    if (flags.staircase_edges) args.push_back("--staircase-edges");
     return args;
 }
 

@@ -32,6 +32,7 @@ struct EmbeddingFlags {
     double area_weight = 0;
     double conformal_weight = 0;
     int cone_sweeps = 0;
+    bool staircase_edges = false;  ///< --staircase-edges: the layout edges not smoothed
 };
 
 /// The flags as `layout`/`fit` arguments: only those that differ from the defaults.

@@ -51,6 +51,13 @@ std::vector<CLI::Option*> add_embedding_flags(CLI::App* cmd, quadcage::cli::Embe
                "moves along the surface down the energy's gradient, up to half a patch side per pass,\n"
                "while that lowers the optimised energy")
             ->check(CLI::NonNegativeNumber));
+    all.push_back(cmd->add_flag(
+        "--staircase-edges", flags.staircase_edges,
+        "Leave the layout edges along mesh edges as the construction routed them, zigzagging across\n"
+        "the triangles. By default each is smoothed: an iso-line of the patch maps made harmonic in a\n"
+        "band three vertex rings wide round the edges (a disk round each corner, 0.12 of its longest\n"
+        "edge, held), cut into the mesh, through the same corners; dropped for these if it would pass\n"
+        "the refinement bound"));
     return all;
 }
 

@@ -39,6 +39,11 @@ struct QuadLayoutOptions {
     int relax_corner_sweeps = 2;  ///< The first this many of those passes first move every corner
                                   ///< towards where it shares its patches' area evenly and reroute its
                                   ///< edges (0: the corners stay where the construction put them), >= 0.
+    /// Smooth the layout edges: each runs along mesh edges as built (a staircase across the
+    /// triangles); smoothed, it is an iso-line of the patch maps made harmonic in a band round the
+    /// edges, cut into the mesh (new vertices on mesh edges), through the same corners. Kept if it
+    /// verifies and, once the unused refinement is undone, stays within vertices_added_bound().
+    bool smooth_edges = true;
     /// Newton iterations of the global embedding optimisation (issue #20; 0: skip it), >= 0. The
     /// stage optimises one seamless map of the whole surface over the cage's unit squares
     /// (symmetric Dirichlet, corners as cones) and reports how evenly it spreads the surface area

@@ -56,6 +56,13 @@ struct EmbeddingOptions {
     /// Weight of an extra conformal term |J|^2 / det J - 2 per triangle (MIPS; 0: none), >= 0: weighs
     /// angles against area.
     double conformal_weight = 0;
+    /// Weight of the |J^-1|^2 half of symmetric Dirichlet (1; 0: the Dirichlet energy |J|^2 alone,
+    /// whose minimiser is the harmonic map, kept flip-free by the line search).
+    double inverse_weight = 1;
+    /// Order the Newton system by METIS's nested dissection as well as AMD and keep the one with
+    /// less fill (worth it for the whole surface: half the flops on botijo); false: AMD alone
+    /// (smooth_layout_edges()' band, where trying both took 0.68 s on botijo against 0.55 s).
+    bool nested_dissection = true;
     std::string validate() const;  ///< Empty if valid, else what is wrong.
 };
 
@@ -124,7 +131,36 @@ AreaPotential measure_area_potential(const QuadLayout& layout, const SeamlessMap
 /// is recomputed by parameterize_patches() (whose sides are by arc length, as verify_quad_layout()
 /// requires). Returns "" and fills *out, or says why the map gives no layout (nothing is changed).
 /// \pre map is seamless and flip-free over layout (optimize_embedding()'s result).
-std::string extract_layout(const QuadLayout& layout, const SeamlessMap& map, QuadLayout* out);
+/// With slide_passes > 0, each new vertex that is the only crossing of its mesh edge then slides
+/// along that edge, that many times, towards the middle of its two neighbours on its layout edge
+/// (staying a tenth of the edge from its ends): a piecewise linear map's iso-lines kink at every
+/// mesh edge they cross, and these kinks are smoothed out without changing which triangles the
+/// curves cross.
+std::string extract_layout(const QuadLayout& layout, const SeamlessMap& map, QuadLayout* out,
+                           int slide_passes = 0);
+
+/// What smooth_layout_edges() did.
+struct SmoothingReport {
+    int band_vertices = 0;  ///< Vertices freed round the layout edges.
+    int iterations = 0;     ///< Newton steps.
+    double seconds = 0;
+};
+
+/// The layout with its edges smoothed (issue #20: "no mesh-edge staircase"). A layout edge runs
+/// along mesh edges, so it zigzags from triangle to triangle. The layout's own patch maps form a
+/// seamless map (QuadLayout::corner_uv, tied across the layout edges by the cage's transitions);
+/// in a band of vertices round the layout edges, less a disk round each corner (0.12 of its longest
+/// edge, where the relaxation set the directions the edges leave the corner in), the map is
+/// made harmonic (the Dirichlet energy, minimised by Newton steps that never flip a triangle; the
+/// band's rim and the corners' disks hold the map), and the mesh is cut along its integer
+/// iso-lines (extract_layout(), whose crossings then slide along their mesh edges to take out the
+/// kinks a piecewise linear map's iso-lines have at every edge). The new edges run across the
+/// triangles (along mesh edges still inside the corners' disks), at most the band's width from the
+/// old ones, through the same corners in the same places; new vertices lie only on the layout
+/// mesh's edges. Returns "" and fills *out, or says
+/// why there is no smoothed layout.
+/// \pre verify_quad_layout(layout) is "".
+std::string smooth_layout_edges(const QuadLayout& layout, QuadLayout* out, SmoothingReport* report);
 
 /// The embedding stage of build_quad_layout(): optimize_embedding(), relocate_cones() for
 /// `cone_sweeps` passes (0: none), then measure_area_potential(); one progress line with the
