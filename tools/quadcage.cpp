@@ -55,9 +55,8 @@ std::vector<CLI::Option*> add_embedding_flags(CLI::App* cmd, quadcage::cli::Embe
         "--staircase-edges", flags.staircase_edges,
         "Leave the layout edges along mesh edges as the construction routed them, zigzagging across\n"
         "the triangles. By default each is smoothed: an iso-line of the patch maps made harmonic in a\n"
-        "band three vertex rings wide round the edges (a disk round each corner, 0.12 of its longest\n"
-        "edge, held), cut into the mesh, through the same corners; dropped for these if it would pass\n"
-        "the refinement bound"));
+        "band three vertex rings wide round the edges (each edge's first and last 12% held), cut into\n"
+        "the mesh, through the same corners; dropped for these if it would pass the refinement bound"));
     return all;
 }
 

@@ -25,7 +25,7 @@ namespace {
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
 // smooth_layout_edges(): the band of vertices freed round the layout edges, in vertex rings; how
-// far round each corner the map is held, as a fraction of the corner's shortest edge; the Newton
+// much of each edge's length is held at either end; the Newton
 // steps at most; extract_layout()'s passes that slide each crossing along its mesh edge, and how
 // near the edge's ends (as a fraction of it) a crossing may come.
 constexpr int kSmoothedRings = 3;
@@ -638,32 +638,20 @@ std::string smooth_layout_edges(const QuadLayout& L, QuadLayout* out, SmoothingR
     std::vector<int> on_edges;
     for (const auto& path : L.edge_paths) on_edges.insert(on_edges.end(), path.begin(), path.end());
     mark_rings(s, on_edges, kSmoothedRings, &band);
-    // Held round each corner: its star, and what lies within kHeldFraction of its longest edge's
-    // length. The relaxation set the directions the edges leave the corner in; made harmonic
-    // there, the map turns them (the corner angles' mean deviation, check_layout.py, measured on
-    // chords to a tenth of each edge: eight 18.0 -> 22.2 deg, 3holes 16.9 -> 20.4 with only a tenth
-    // of the shortest edge held).
-    std::vector<double> longest(L.corner_vertex.size(), 0.0);
+    // Held: each corner's star, and each edge's first and last kHeldFraction of its length with the
+    // ring round them. The relaxation set the directions the edges leave the corners in; made
+    // harmonic there, the map turns them (the corner angles' mean deviation, check_layout.py,
+    // measured on chords to a tenth of each edge: eight 18.0 -> 22.2 deg, 3holes 16.9 -> 20.4 with
+    // only the corners' stars and a disk of a tenth of the shortest edge held).
+    std::vector<int> ends(L.corner_vertex.begin(), L.corner_vertex.end());
     for (const auto& path : L.edge_paths) {
-        double len = 0;
+        std::vector<double> at{0};
         for (size_t i = 0; i + 1 < path.size(); ++i)
-            len += norm(mesh.points[path[i + 1]] - mesh.points[path[i]]);
-        for (size_t c = 0; c < L.corner_vertex.size(); ++c)
-            if (L.corner_vertex[c] == path.front() || L.corner_vertex[c] == path.back())
-                longest[c] = std::max(longest[c], len);
+            at.push_back(at.back() + norm(mesh.points[path[i + 1]] - mesh.points[path[i]]));
+        for (size_t i = 0; i < path.size(); ++i)
+            if (std::min(at[i], at.back() - at[i]) <= kHeldFraction * at.back()) ends.push_back(path[i]);
     }
-    mark_rings(s, L.corner_vertex, 1, &held);
-    {
-        // One search from all corners, each starting at the longest such reach less its own.
-        const double most = kHeldFraction * *std::max_element(longest.begin(), longest.end());
-        PathSearch q;
-        for (size_t c = 0; c < L.corner_vertex.size(); ++c)
-            q.sources.push_back({L.corner_vertex[c], most - kHeldFraction * longest[c]});
-        q.max_distance = most;
-        const PathResult near = dijkstra(s, q);
-        for (int v = 0; v < n; ++v)
-            if (near.distance[v] <= most) held[v] = 1;
-    }
+    mark_rings(s, ends, 1, &held);
     for (int v = 0; v < n; ++v) band[v] = band[v] && !held[v];
     EmbeddingOptions dirichlet;
     dirichlet.iterations = kSmoothingIterations;

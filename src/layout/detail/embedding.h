@@ -149,13 +149,14 @@ struct SmoothingReport {
 /// The layout with its edges smoothed (issue #20: "no mesh-edge staircase"). A layout edge runs
 /// along mesh edges, so it zigzags from triangle to triangle. The layout's own patch maps form a
 /// seamless map (QuadLayout::corner_uv, tied across the layout edges by the cage's transitions);
-/// in a band of vertices round the layout edges, less a disk round each corner (0.12 of its longest
-/// edge, where the relaxation set the directions the edges leave the corner in), the map is
+/// in a band of vertices round the layout edges, less the corners' stars and each edge's first and
+/// last 0.12 of its length (where the relaxation set the directions the edges leave the corners
+/// in) with the ring round them, the map is
 /// made harmonic (the Dirichlet energy, minimised by Newton steps that never flip a triangle; the
-/// band's rim and the corners' disks hold the map), and the mesh is cut along its integer
+/// band's rim and the held vertices hold the map), and the mesh is cut along its integer
 /// iso-lines (extract_layout(), whose crossings then slide along their mesh edges to take out the
 /// kinks a piecewise linear map's iso-lines have at every edge). The new edges run across the
-/// triangles (along mesh edges still inside the corners' disks), at most the band's width from the
+/// triangles (along mesh edges still near their ends), at most the band's width from the
 /// old ones, through the same corners in the same places; new vertices lie only on the layout
 /// mesh's edges. Returns "" and fills *out, or says
 /// why there is no smoothed layout.
