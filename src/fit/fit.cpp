@@ -260,16 +260,22 @@ struct DataPoint {
 /// are left unset (face -1) for a projection onto the surface.
 std::vector<DataPoint> make_data_points(const Mesh& mesh, const layout::QuadLayout* layout, const FitOptions& options) {
     std::vector<detail::MeshSample> vertices = detail::sample_vertices(mesh);
-    // The input's vertices, not those the layout added: those lie along the layout edges (the
-    // smoothed edges add one where they cross a mesh edge), where they would weigh the fit towards
-    // the patch boundaries. The layout mesh's first vertices are the input's.
-    if (layout)
+    // Not the vertices a smoothed layout added on its edges: one wherever an edge crosses a mesh
+    // edge, thousands along the patch boundaries, where they would weigh the fit. The input's
+    // vertices stay, and so do added ones off the edges (a coarse input's 1-to-4 splits). Layouts
+    // along mesh edges keep every vertex: dropping theirs moved the genus-3 plate's fit enough that
+    // its CAD export's read-back check failed (tests/cad; see the README).
+    if (layout && layout->edges_smoothed) {
+        std::vector<char> on_edge(mesh.num_vertices(), 0);
+        for (const auto& path : layout->edge_paths)
+            for (int v : path) on_edge[v] = v >= layout->input_vertices;
         vertices.erase(std::remove_if(vertices.begin(), vertices.end(),
                                       [&](const detail::MeshSample& s) {
                                           const int k = s.bary[0] == 1 ? 0 : s.bary[1] == 1 ? 1 : 2;
-                                          return mesh.triangles[s.triangle][k] >= layout->input_vertices;
+                                          return on_edge[mesh.triangles[s.triangle][k]] != 0;
                                       }),
                        vertices.end());
+    }
     const std::vector<detail::MeshSample> area = detail::sample_by_area(mesh, options.area_samples, options.seed);
     const size_t cap = static_cast<size_t>(options.max_data_points);
     if (area.size() >= cap) vertices.clear();

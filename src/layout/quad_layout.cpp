@@ -575,6 +575,7 @@ QuadLayout build_quad_layout(const Mesh& input, const QuadLayoutOptions& options
                 r.band_vertices, r.iterations, r.seconds);
             say(line);
             smooth.seconds = out.seconds;
+            smooth.edges_smoothed = true;
             staircase = std::move(out);
             out = std::move(smooth);
         }

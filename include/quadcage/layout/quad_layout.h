@@ -102,6 +102,9 @@ struct QuadLayout {
     /// two corners (the relaxed curves, unless relaxation is off or failed).
     std::vector<Cycle> orthogonal_system;
     std::vector<Cycle> s_cycles;
+    /// Whether the layout edges were smoothed (QuadLayoutOptions::smooth_edges): they cross mesh
+    /// triangles, with a new vertex wherever they cross a mesh edge.
+    bool edges_smoothed = false;
     LayoutQuality quality;
     /// Wall-clock seconds by stage.
     struct Seconds {
