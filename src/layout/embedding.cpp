@@ -632,8 +632,7 @@ std::string smooth_layout_edges(const QuadLayout& L, QuadLayout* out, SmoothingR
     const Surface s(mesh);
     SeamlessMap map;
     start_map(L, s, &map);
-    // The band: vertices within kSmoothedRings of a layout edge, less those held round the
-    // corner.
+    // The band: vertices within kSmoothedRings of a layout edge, less those held (below).
     std::vector<char> band(n, 0), held(n, 0);
     std::vector<int> on_edges;
     for (const auto& path : L.edge_paths) on_edges.insert(on_edges.end(), path.begin(), path.end());
