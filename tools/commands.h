@@ -4,6 +4,8 @@
 #include <string>
 #include <vector>
 
+#include "quadcage/layout/quad_layout.h"
+
 namespace quadcage::cli {
 
 /// Exit codes of every command.
@@ -33,6 +35,10 @@ struct EmbeddingFlags {
     double conformal_weight = 0;
     int cone_sweeps = 0;
     bool staircase_edges = false;  ///< --staircase-edges: the layout edges not smoothed
+    /// --edge-embedding N: Newton iterations of the global edge embedding (0: off)
+    int edge_embedding = quadcage::layout::QuadLayoutOptions{}.edge_embedding_iterations;
+    /// --edge-embedding-max-vertices N: above this many layout-mesh vertices it is skipped
+    int edge_embedding_max_vertices = quadcage::layout::QuadLayoutOptions{}.edge_embedding_max_vertices;
 };
 
 /// The flags as `layout`/`fit` arguments: only those that differ from the defaults.

@@ -33,6 +33,11 @@ constexpr double kHeldFraction = 0.12;
 constexpr int kSmoothingIterations = 5;
 constexpr int kSlidePasses = 10;
 constexpr double kSlideMargin = 0.1;
+// embed_layout_edges(): how much of each edge's length is held at either end. check_layout.py
+// measures the corner angles along the chords to the points a tenth of each edge's length from
+// the corner; held to there, the relaxation's angles stay as they were (botijo 26.6 deg; with 0.05
+// held, 35.7).
+constexpr double kEmbeddingHeldFraction = 0.10;
 
 // The unit square's sides, counter-clockwise from (0,0): side k starts at kStart[k] and runs along
 // kDirection[k]; inside lies to its left.
@@ -625,6 +630,21 @@ void mark_rings(const Surface& s, std::vector<int> seeds, int rings, std::vector
 
 }  // namespace
 
+// Marks each corner's star and each layout edge's first and last `fraction` of its length, with
+// the ring round them, in *held.
+void mark_held_ends(const QuadLayout& L, const Surface& s, double fraction, std::vector<char>* held) {
+    const Mesh& mesh = L.mesh;
+    std::vector<int> ends(L.corner_vertex.begin(), L.corner_vertex.end());
+    for (const auto& path : L.edge_paths) {
+        std::vector<double> at{0};
+        for (size_t i = 0; i + 1 < path.size(); ++i)
+            at.push_back(at.back() + norm(mesh.points[path[i + 1]] - mesh.points[path[i]]));
+        for (size_t i = 0; i < path.size(); ++i)
+            if (std::min(at[i], at.back() - at[i]) <= fraction * at.back()) ends.push_back(path[i]);
+    }
+    mark_rings(s, ends, 1, held);
+}
+
 std::string smooth_layout_edges(const QuadLayout& L, QuadLayout* out, SmoothingReport* report) {
     const auto start = std::chrono::steady_clock::now();
     const Mesh& mesh = L.mesh;
@@ -642,15 +662,7 @@ std::string smooth_layout_edges(const QuadLayout& L, QuadLayout* out, SmoothingR
     // harmonic there, the map turns them (the corner angles' mean deviation, check_layout.py,
     // measured on chords to a tenth of each edge: eight 18.0 -> 22.2 deg, 3holes 16.9 -> 20.4 with
     // only the corners' stars and a disk of a tenth of the shortest edge held).
-    std::vector<int> ends(L.corner_vertex.begin(), L.corner_vertex.end());
-    for (const auto& path : L.edge_paths) {
-        std::vector<double> at{0};
-        for (size_t i = 0; i + 1 < path.size(); ++i)
-            at.push_back(at.back() + norm(mesh.points[path[i + 1]] - mesh.points[path[i]]));
-        for (size_t i = 0; i < path.size(); ++i)
-            if (std::min(at[i], at.back() - at[i]) <= kHeldFraction * at.back()) ends.push_back(path[i]);
-    }
-    mark_rings(s, ends, 1, &held);
+    mark_held_ends(L, s, kHeldFraction, &held);
     for (int v = 0; v < n; ++v) band[v] = band[v] && !held[v];
     EmbeddingOptions dirichlet;
     dirichlet.iterations = kSmoothingIterations;
@@ -662,6 +674,33 @@ std::string smooth_layout_edges(const QuadLayout& L, QuadLayout* out, SmoothingR
     if (r.flipped_triangles > 0)
         return "the smoothed map flips " + std::to_string(r.flipped_triangles) + " triangles";
     const std::string problem = extract_layout(L, map, out, kSlidePasses);
+    report->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return problem;
+}
+
+std::string embed_layout_edges(const QuadLayout& L, int iterations, QuadLayout* out,
+                               EdgeEmbeddingReport* report) {
+    const auto start = std::chrono::steady_clock::now();
+    const Surface s(L.mesh);
+    SeamlessMap map;
+    start_map(L, s, &map);
+    std::vector<char> held(L.mesh.num_vertices(), 0);
+    mark_held_ends(L, s, kEmbeddingHeldFraction, &held);
+    std::vector<char> free(held.size());
+    for (size_t v = 0; v < held.size(); ++v) free[v] = !held[v];
+    EmbeddingOptions symmetric_dirichlet;
+    symmetric_dirichlet.iterations = iterations;
+    const EmbeddingReport r = newton(L, s, symmetric_dirichlet, &map, false, &free);
+    report->variables = r.variables;
+    report->iterations = r.iterations;
+    report->initial_energy = r.initial_energy;
+    report->final_energy = r.final_energy;
+    report->stopped = r.message;
+    std::string problem;
+    if (r.flipped_triangles > 0)
+        problem = "the optimised map flips " + std::to_string(r.flipped_triangles) + " triangles";
+    else
+        problem = extract_layout(L, map, out, kSlidePasses);
     report->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return problem;
 }

@@ -1,5 +1,6 @@
 // Smoothing the layout edges (issue #20: "layout edges run as smooth curves across triangles, split
-// where they cross: no mesh-edge staircase"): smooth_layout_edges() on layouts built without it.
+// where they cross: no mesh-edge staircase"): smooth_layout_edges() on layouts built without it;
+// and the global edge embedding (embed_layout_edges()), which also places them.
 
 #include <gtest/gtest.h>
 
@@ -12,6 +13,7 @@
 #include <vector>
 
 #include "detail/embedding.h"
+#include "detail/patches.h"
 #include "quadcage/core/mesh.h"
 #include "quadcage/core/shapes.h"
 #include "quadcage/layout/quad_layout.h"
@@ -84,18 +86,10 @@ double length(const QuadLayout& L) {
     return total;
 }
 
-class LayoutSmoothEdges : public ::testing::TestWithParam<Shape> {};
-
-TEST_P(LayoutSmoothEdges, SmoothCurvesThroughTheSameCornersOnTheSameSurface) {
-    const QuadLayout L = staircase_layout(GetParam().make());
-    ASSERT_EQ(verify_quad_layout(L), "");
-    QuadLayout S;
-    SmoothingReport r;
-    ASSERT_EQ(smooth_layout_edges(L, &S, &r), "");
-    EXPECT_EQ(verify_quad_layout(S), "");
-    EXPECT_GT(r.band_vertices, 0);
-
-    // The same cage, its corners on the same mesh points.
+// S is L with its edges moved: the same cage, its corners on the same mesh points, every vertex of
+// L in order and in place, and every new vertex on an edge of L whose ends are its neighbours (new
+// vertices only where a curve crosses a mesh edge).
+void expect_same_corners_on_the_same_surface(const QuadLayout& L, const QuadLayout& S) {
     ASSERT_EQ(S.cage.num_quads(), L.cage.num_quads());
     for (int q = 0; q < L.cage.num_quads(); ++q) EXPECT_EQ(S.cage.quads[q].corners, L.cage.quads[q].corners);
     ASSERT_EQ(S.corner_vertex.size(), L.corner_vertex.size());
@@ -103,9 +97,6 @@ TEST_P(LayoutSmoothEdges, SmoothCurvesThroughTheSameCornersOnTheSameSurface) {
         const Vec3 d = S.mesh.points[S.corner_vertex[c]] - L.mesh.points[L.corner_vertex[c]];
         EXPECT_EQ(norm(d), 0.0) << "corner " << c;
     }
-
-    // Every vertex of L stays, in order and in place; every new one lies on an edge of L whose ends
-    // are its neighbours (new vertices only where a curve crosses a mesh edge).
     ASSERT_GE(S.mesh.num_vertices(), L.mesh.num_vertices());
     for (int v = 0; v < L.mesh.num_vertices(); ++v) ASSERT_EQ(norm(S.mesh.points[v] - L.mesh.points[v]), 0.0);
     std::set<std::pair<int, int>> old_edges;
@@ -134,6 +125,20 @@ TEST_P(LayoutSmoothEdges, SmoothCurvesThroughTheSameCornersOnTheSameSurface) {
             }
         EXPECT_TRUE(on_edge) << "new vertex " << m << " lies on no edge of the layout mesh";
     }
+}
+
+class LayoutSmoothEdges : public ::testing::TestWithParam<Shape> {};
+
+TEST_P(LayoutSmoothEdges, SmoothCurvesThroughTheSameCornersOnTheSameSurface) {
+    const QuadLayout L = staircase_layout(GetParam().make());
+    ASSERT_EQ(verify_quad_layout(L), "");
+    QuadLayout S;
+    SmoothingReport r;
+    ASSERT_EQ(smooth_layout_edges(L, &S, &r), "");
+    EXPECT_EQ(verify_quad_layout(S), "");
+    EXPECT_GT(r.band_vertices, 0);
+
+    expect_same_corners_on_the_same_surface(L, S);
 
     // No staircase: sharp turns at under 0.4 of the share of points they were at (measured: plate
     // 0.479 -> 0.173, body with handles 0.379 -> 0.084, torus 0.056 -> 0, sphere 0.473 -> 0.043;
@@ -149,19 +154,90 @@ TEST_P(LayoutSmoothEdges, SmoothCurvesThroughTheSameCornersOnTheSameSurface) {
 INSTANTIATE_TEST_SUITE_P(Shapes, LayoutSmoothEdges, ::testing::ValuesIn(kShapes),
                          [](const auto& info) { return std::string(info.param.name); });
 
-TEST(LayoutSmoothEdges, TheDriverSmoothsByDefaultAndSaysSo) {
-    const Mesh mesh = shapes::plate_with_holes(2);
-    std::vector<std::string> said;
-    QuadLayoutOptions o;
-    o.progress = [&](const std::string& m) { said.push_back(m); };
-    const QuadLayout smooth = build_quad_layout(mesh, o);
-    bool says = false;
-    for (const auto& m : said) says = says || m.rfind("smoothing: ", 0) == 0;
-    EXPECT_TRUE(says);
-    const QuadLayout staircase = staircase_layout(mesh);
-    EXPECT_LT(sharp_turns(smooth), 0.4 * sharp_turns(staircase));
-    EXPECT_LE(smooth.mesh.num_vertices() - smooth.input_vertices,
-              vertices_added_bound(smooth.input_vertices, smooth.cage.num_corners()));
+// The number of points of `path` within `fraction` of its length from its start.
+size_t points_within(const Mesh& mesh, const std::vector<int>& path, double fraction) {
+    std::vector<double> at{0};
+    for (size_t i = 0; i + 1 < path.size(); ++i)
+        at.push_back(at.back() + norm(mesh.points[path[i + 1]] - mesh.points[path[i]]));
+    size_t k = 0;
+    while (k < path.size() && at[k] <= fraction * at.back()) ++k;
+    return k;
+}
+
+class LayoutEmbedEdges : public ::testing::TestWithParam<Shape> {};
+
+TEST_P(LayoutEmbedEdges, OneMapMovesTheEdgesButNotTheCornersOrTheirDirections) {
+    const QuadLayout L = staircase_layout(GetParam().make());
+    ASSERT_EQ(verify_quad_layout(L), "");
+    QuadLayout E;
+    EdgeEmbeddingReport r;
+    ASSERT_EQ(embed_layout_edges(L, 30, &E, &r), "");
+    EXPECT_EQ(verify_quad_layout(E), "");
+    EXPECT_GT(r.variables, 0);
+    EXPECT_GT(r.iterations, 0);
+    EXPECT_LT(r.final_energy, r.initial_energy);
+    expect_same_corners_on_the_same_surface(L, E);
+
+    // Each edge leaves its corners as it did: its first and last tenth (by its old length; held)
+    // are the same mesh vertices in the same order.
+    ASSERT_EQ(E.edge_paths.size(), L.edge_paths.size());
+    for (size_t e = 0; e < L.edge_paths.size(); ++e) {
+        for (int end = 0; end < 2; ++end) {
+            std::vector<int> old_path = L.edge_paths[e], new_path = E.edge_paths[e];
+            if (end == 1)
+                std::reverse(old_path.begin(), old_path.end()),
+                    std::reverse(new_path.begin(), new_path.end());
+            const size_t k = points_within(L.mesh, old_path, 0.1);
+            ASSERT_GE(new_path.size(), k);
+            EXPECT_TRUE(std::equal(old_path.begin(), old_path.begin() + k, new_path.begin()))
+                << "edge " << e << " end " << end << ": its first " << k << " points moved";
+        }
+    }
+
+    // The edges run across the triangles (as smooth_layout_edges() makes them), and the area
+    // spreads more evenly over the patches.
+    measure_quality(&E);
+    const double before = sharp_turns(L), after = sharp_turns(E);
+    std::printf(
+        "%s: energy %.4g -> %.4g in %d steps; sharp turns %.3f -> %.3f; patch area max/min %.3g -> %.3g\n",
+        GetParam().name, r.initial_energy, r.final_energy, r.iterations, before, after,
+        L.quality.patch_area_max_over_min, E.quality.patch_area_max_over_min);
+    EXPECT_LT(after, 0.4 * before);
+    EXPECT_LT(after, 0.2);
+    if (std::string(GetParam().name) == "handles3") {  // the class it is for: a big body, small handles
+        EXPECT_LT(E.quality.patch_area_max_over_min,
+                  0.95 * L.quality.patch_area_max_over_min);  // 30.4 -> 27.2
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(Shapes, LayoutEmbedEdges, ::testing::ValuesIn(kShapes),
+                         [](const auto& info) { return std::string(info.param.name); });
+
+// By default the driver embeds the edges, or smooths them where the embedded ones are no better
+// balanced or pass the refinement bound, and says which.
+TEST(LayoutSmoothEdges, TheDriverEmbedsOrSmoothsTheEdgesByDefaultAndSaysSo) {
+    for (const Shape& shape : kShapes) {
+        SCOPED_TRACE(shape.name);
+        const Mesh mesh = shape.make();
+        std::vector<std::string> said;
+        QuadLayoutOptions o;
+        o.progress = [&](const std::string& m) { said.push_back(m); };
+        const QuadLayout moved = build_quad_layout(mesh, o);
+        bool embedded = false, smoothed = false;
+        for (const auto& m : said) {
+            embedded = embedded || m.rfind("edge embedding: keeping the embedded edges", 0) == 0;
+            smoothed = smoothed || m.rfind("smoothing: the map made harmonic", 0) == 0;
+        }
+        EXPECT_NE(embedded, smoothed);
+        EXPECT_TRUE(moved.edges_smoothed);
+        const QuadLayout staircase = staircase_layout(mesh);
+        if (embedded) {
+            EXPECT_LT(moved.quality.patch_area_max_over_min, staircase.quality.patch_area_max_over_min);
+        }
+        EXPECT_LT(sharp_turns(moved), 0.4 * sharp_turns(staircase));
+        EXPECT_LE(moved.mesh.num_vertices() - moved.input_vertices,
+                  vertices_added_bound(moved.input_vertices, moved.cage.num_corners()));
+    }
 }
 
 }  // namespace

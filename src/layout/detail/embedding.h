@@ -163,6 +163,31 @@ struct SmoothingReport {
 /// \pre verify_quad_layout(layout) is "".
 std::string smooth_layout_edges(const QuadLayout& layout, QuadLayout* out, SmoothingReport* report);
 
+/// What embed_layout_edges() did.
+struct EdgeEmbeddingReport {
+    int variables = 0;          ///< Free (u, v) pairs.
+    int iterations = 0;         ///< Newton steps.
+    double initial_energy = 0;  ///< Area-weighted mean symmetric Dirichlet energy (4 = isometric).
+    double final_energy = 0;
+    std::string stopped;  ///< Why the Newton steps stopped.
+    double seconds = 0;
+};
+
+/// The layout with its edges where one map of the whole surface puts them (issue #20's global
+/// embedding, with the corners held). The layout's own patch maps, tied into one seamless map as
+/// in smooth_layout_edges(), minimise the symmetric Dirichlet energy at the scale area / quads
+/// (optimize_embedding()'s energy) over every vertex but the corners' stars and each edge's first
+/// and last tenth of its length with the ring round them, for at most `iterations` flip-free
+/// Newton steps. Where the relaxation crowded the corners, this moves the edges between them so
+/// that the surface spreads more evenly over the squares, while the corners and the directions
+/// their edges leave them in (the corner angles check_layout.py measures) stay. The mesh is cut
+/// along the map's integer iso-lines (extract_layout(), crossings slid as in
+/// smooth_layout_edges()), so the edges run across the triangles. Returns "" and fills *out, or
+/// says why there is no such layout.
+/// \pre verify_quad_layout(layout) is "".
+std::string embed_layout_edges(const QuadLayout& layout, int iterations, QuadLayout* out,
+                               EdgeEmbeddingReport* report);
+
 /// The embedding stage of build_quad_layout(): optimize_embedding(), relocate_cones() for
 /// `cone_sweeps` passes (0: none), then measure_area_potential(); one progress line with the
 /// figures. With `extract`, replaces *layout by extract_layout()'s result if that verifies and has a
