@@ -65,12 +65,13 @@ std::vector<CLI::Option*> add_embedding_flags(CLI::App* cmd, quadcage::cli::Embe
                "smoothed): one map of the whole surface over the cage's squares, the corners and each\n"
                "edge's first and last tenth held, whose iso-lines become the layout edges when they\n"
                "spread the area more evenly over the patches and stay within the refinement bound.\n"
-               "Costs a factorisation a step: about 0.3 s at 40k vertices (botijo), 1.7 s at 160k")
+               "Costs a factorisation a step: about 0.25 s at 40k vertices (botijo)")
             ->check(CLI::NonNegativeNumber));
     all.push_back(
         cmd->add_option("--edge-embedding-max-vertices", flags.edge_embedding_max_vertices,
                         "Skip the edge embedding (only smooth the edges) on layout meshes with more\n"
-                        "vertices than this (default 200000; at 648k: 8.4 s a step, 3.1 GiB peak)")
+                        "vertices than this (default 200000; at 648k, on one BLAS thread: 8.4 s a step,\n"
+                        "3.1 GiB peak)")
             ->check(CLI::NonNegativeNumber));
     return all;
 }
