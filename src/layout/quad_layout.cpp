@@ -564,8 +564,9 @@ QuadLayout build_quad_layout(const Mesh& input, const QuadLayoutOptions& options
     bool embedded = false;
     const bool embed = options.smooth_edges && options.edge_embedding_iterations > 0;
     if (embed && out.mesh.num_vertices() > options.edge_embedding_max_vertices) {
-        // Each Newton step factorises the whole map's Hessian: measured on one BLAS thread 0.33 s at 39k free
-        // vertices (botijo), 1.7 s at 158k, 8.4 s and 3.1 GiB at 648k (botijo split twice).
+        // Each Newton step factorises the whole map's Hessian: measured on one BLAS thread, 0.33 s
+        // at 39k free vertices (botijo), 1.7 s at 158k, 8.4 s and 3.1 GiB at 648k (botijo split
+        // twice).
         say("edge embedding: skipped: the layout mesh has " + std::to_string(out.mesh.num_vertices()) +
             " vertices, more than " + std::to_string(options.edge_embedding_max_vertices) +
             " (--edge-embedding-max-vertices); smoothing the edges instead");
@@ -575,7 +576,14 @@ QuadLayout build_quad_layout(const Mesh& input, const QuadLayoutOptions& options
         const auto start = std::chrono::steady_clock::now();
         QuadLayout e;
         detail::EdgeEmbeddingReport r;
-        std::string why_not = detail::embed_layout_edges(out, options.edge_embedding_iterations, &e, &r);
+        std::string why_not;
+        try {
+            why_not = detail::embed_layout_edges(out, options.edge_embedding_iterations, &e, &r);
+        } catch (const InternalError& error) {
+            // The smoothing below still gives clean edges; a failure here is a bug to report, not
+            // a reason to lose the layout.
+            why_not = std::string("it failed: ") + error.what();
+        }
         if (why_not.empty()) {
             char line[300];
             std::snprintf(line, sizeof line,
@@ -608,7 +616,7 @@ QuadLayout build_quad_layout(const Mesh& input, const QuadLayoutOptions& options
                 embedded = true;
             }
         }
-        if (!embedded) say("edge embedding: keeping the edges as they were (" + why_not + ")");
+        if (!embedded) say("edge embedding: not kept (" + why_not + "); smoothing the edges instead");
         out.seconds.curves += since(start);
     }
     std::optional<QuadLayout> staircase;  // the layout before smoothing, while it may be wanted back
