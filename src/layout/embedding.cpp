@@ -629,8 +629,6 @@ void mark_rings(const Surface& s, std::vector<int> seeds, int rings, std::vector
     }
 }
 
-}  // namespace
-
 // Marks each corner's star and each layout edge's first and last `fraction` of its length, with
 // the ring round them, in *held.
 void mark_held_ends(const QuadLayout& L, const Surface& s, double fraction, std::vector<char>* held) {
@@ -645,6 +643,8 @@ void mark_held_ends(const QuadLayout& L, const Surface& s, double fraction, std:
     }
     mark_rings(s, ends, 1, held);
 }
+
+}  // namespace
 
 std::string smooth_layout_edges(const QuadLayout& L, QuadLayout* out, SmoothingReport* report) {
     const auto start = std::chrono::steady_clock::now();
