@@ -564,7 +564,7 @@ QuadLayout build_quad_layout(const Mesh& input, const QuadLayoutOptions& options
     bool embedded = false;
     const bool embed = options.smooth_edges && options.edge_embedding_iterations > 0;
     if (embed && out.mesh.num_vertices() > options.edge_embedding_max_vertices) {
-        // Each Newton step factorises the whole map's Hessian: measured on one BLAS thread, 0.33 s
+        // Each Newton step factorises the whole map's Hessian: measured on one BLAS thread, 0.37 s
         // at 39k free vertices (botijo), 1.7 s at 158k, 8.4 s and 3.1 GiB at 648k (botijo split
         // twice).
         say("edge embedding: skipped: the layout mesh has " + std::to_string(out.mesh.num_vertices()) +

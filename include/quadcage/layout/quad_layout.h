@@ -54,7 +54,7 @@ struct QuadLayoutOptions {
     int edge_embedding_iterations = 30;
     /// The global edge embedding is skipped (the edges only smoothed) on a layout mesh with more
     /// vertices than this, >= 0. Its Newton steps factorise the whole map's Hessian: measured on one
-    /// BLAS thread (two take about two thirds of the time), 0.33 s a step at 39k free vertices,
+    /// BLAS thread (two take about two thirds of the time), 0.37 s a step at 39k free vertices,
     /// 1.7 s at 158k, 8.4 s and 3.1 GiB peak at 648k.
     int edge_embedding_max_vertices = 200000;
     /// Newton iterations of the global embedding optimisation (issue #20; 0: skip it), >= 0. The
