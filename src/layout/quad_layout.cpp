@@ -1,3 +1,7 @@
+// build_quad_layout(): the pipeline of design.md §1 from the mesh to a verified minimal quad layout,
+// each stage in its own file (named at its call below); and the options' check and the bound on
+// the refinement.
+
 #include "quadcage/layout/quad_layout.h"
 
 #include <algorithm>
@@ -6,126 +10,17 @@
 #include <cmath>
 #include <cstdio>
 #include <exception>
-#include <limits>
-#include <map>
 #include <memory>
 #include <optional>
 #include <thread>
 
-#include "detail/curves.h"
 #include "detail/embedding.h"
 #include "detail/patches.h"
-#include "detail/relax.h"
 #include "detail/stages.h"
-#include "detail/surface.h"
-#include "detail/unrefine.h"
 #include "quadcage/core/errors.h"
 #include "quadcage/core/validate.h"
 
 namespace quadcage::layout {
-namespace {
-
-using detail::Builder;
-using detail::index_in;
-using detail::kInf;
-using detail::neighbours_on;
-using detail::Network;
-using detail::OverBudget;
-using detail::PathResult;
-using detail::PathSearch;
-using detail::Say;
-using detail::sectors;
-using detail::Surface;
-
-// Removes hairpins from a layout curve: where the curve comes back next to itself (p_i adjacent to
-// p_j, j > i + 1) around a small disk that holds nothing else (no vertex of another curve in
-// `dirty`, no corner), the detour is replaced by the edge p_i p_j. Shortest paths that must enter
-// a corner's sector from one side make such detours; left in place, the one-vertex-wide sliver
-// between its branches squeezes the patch map below rounding. Returns the number of shortcuts.
-int remove_hairpins(const Surface& s, Cycle& c, bool closed, const std::vector<char>& dirty,
-                    const std::vector<char>& corner) {
-    int shortcuts = 0;
-    const int nt = s.num_half_edges() / 3;
-    std::vector<int> pos(s.num_vertices(), -1);
-    std::vector<int> seen(nt, -1);
-    int stamp = 0;
-    for (bool changed = true; changed;) {
-        changed = false;
-        std::fill(pos.begin(), pos.end(), -1);
-        for (size_t i = 0; i < c.size(); ++i) pos[c[i]] = static_cast<int>(i);
-        const int n = static_cast<int>(c.size());
-        for (int i = 0; i + 2 < n && !changed; ++i) {
-            // Shortcuts from p_i: an edge to a later p_j, or two edges through a free vertex m.
-            std::vector<std::pair<int, int>> options;  // (j, m or -1)
-            for (int w : s.ring(c[i])) {
-                if (pos[w] > i + 1)
-                    options.push_back({pos[w], -1});
-                else if (pos[w] < 0 && !dirty[w] && !corner[w])
-                    for (int u : s.ring(w))
-                        if (pos[u] > i + 2) options.push_back({pos[u], w});
-            }
-            std::sort(options.begin(), options.end(), [](const auto& x, const auto& y) {
-                return x.first != y.first ? x.first > y.first : x.second < y.second;  // longest detour first
-            });
-            for (const auto& [j, m] : options) {
-                if (closed && i == 0 && j == n - 1) continue;
-                bool skips_corner = false;
-                for (int k = i + 1; k < j && !skips_corner; ++k) skips_corner = corner[c[k]];
-                if (skips_corner) continue;
-                // The loop p_i .. p_j (m) p_i; flood each side without crossing it.
-                std::vector<std::uint64_t> loop_edges;
-                for (int k = i; k < j; ++k) loop_edges.push_back(detail::edge_key(c[k], c[k + 1]));
-                if (m < 0)
-                    loop_edges.push_back(detail::edge_key(c[j], c[i]));
-                else {
-                    loop_edges.push_back(detail::edge_key(c[j], m));
-                    loop_edges.push_back(detail::edge_key(m, c[i]));
-                }
-                std::sort(loop_edges.begin(), loop_edges.end());
-                auto on_loop = [&](int h) {
-                    return std::binary_search(loop_edges.begin(), loop_edges.end(),
-                                              detail::edge_key(s.from(h), s.to(h)));
-                };
-                const size_t limit = 64 + 16 * static_cast<size_t>(j - i) * static_cast<size_t>(j - i);
-                const int h0 = s.find_half_edge(c[i], c[i + 1]);
-                bool clean_side = false;
-                for (int side = 0; side < 2 && !clean_side; ++side) {
-                    ++stamp;
-                    std::vector<int> queue{(side == 0 ? h0 : s.twin(h0)) / 3};
-                    seen[queue[0]] = stamp;
-                    bool clean = true;
-                    for (size_t q = 0; q < queue.size() && clean; ++q) {
-                        if (queue.size() > limit) clean = false;
-                        const int t = queue[q];
-                        for (int k = 0; k < 3 && clean; ++k) {
-                            const int v = s.mesh().triangles[t][k];
-                            if ((pos[v] >= i && pos[v] <= j) || v == m) continue;  // on the loop itself
-                            if (dirty[v] || corner[v] || pos[v] >= 0) clean = false;
-                        }
-                        for (int k = 0; k < 3 && clean; ++k) {
-                            const int h = 3 * t + k;
-                            if (on_loop(h)) continue;
-                            const int o = s.twin(h) / 3;
-                            if (seen[o] != stamp) {
-                                seen[o] = stamp;
-                                queue.push_back(o);
-                            }
-                        }
-                    }
-                    clean_side = clean;
-                }
-                if (!clean_side) continue;
-                c.erase(c.begin() + i + 1, c.begin() + j);
-                if (m >= 0) c.insert(c.begin() + i + 1, m);
-                ++shortcuts;
-                changed = true;
-                break;
-            }
-        }
-    }
-    return shortcuts;
-}
-}  // namespace
 
 std::string QuadLayoutOptions::validate() const {
     if (relax_sweeps < 0) return "relax_sweeps must be >= 0, got " + std::to_string(relax_sweeps);
@@ -151,6 +46,11 @@ long long vertices_added_bound(int input_vertices, int corners) {
 }
 
 namespace {
+
+using detail::Builder;
+using detail::Network;
+using detail::OverBudget;
+using detail::Say;
 
 // The orthogonal system of a mesh and the mesh it lies on (the input, refined if coarse).
 struct Cycles {
@@ -226,182 +126,27 @@ QuadLayout build_variant(const Mesh& input, const Cycles& cycles, const QuadLayo
             else
                 net = network_of_cube(b, say);
             *from_handle_loops = net.s_cycles_from_handle_loops;
-
-            // Room for the patch maps: no mesh edge may join two points of one patch side without
-            // being a layout edge (split below, once the layout edges are known; edges between two
-            // different sides need no room). The orthogonal system is no obstacle any more.
             say("patches");
-            std::vector<char> layout_curve(b.curves_.size(), 0);
-            for (const auto& [id, cs] : net.closed) layout_curve[id] = 1;
-            for (int id : net.arcs) layout_curve[id] = 1;
-            for (size_t c = 0; c < b.curves_.size(); ++c) b.obstacle_[c] = layout_curve[c];
-            {
-                // Tighten: remove hairpins. An S-cycle must keep its single crossing with the orthogonal
-                // system, so for S-cycles the system's vertices count as other curves too.
-                std::vector<char> corner(b.s_.num_vertices(), 0), on_system(b.s_.num_vertices(), 0);
-                for (int v : net.corners) corner[v] = 1;
-                for (int i = 0; i < 2 * g; ++i)
-                    for (int v : b.curves_[i]) on_system[v] = 1;
-                for (size_t c = 0; c < b.curves_.size(); ++c) {
-                    if (!layout_curve[c]) continue;
-                    std::vector<char> dirty(b.s_.num_vertices(), 0);
-                    for (size_t d = 0; d < b.curves_.size(); ++d)
-                        if (d != c && layout_curve[d])
-                            for (int v : b.curves_[d]) dirty[v] = 1;
-                    const bool is_s = std::find(net.s_cycles.begin(), net.s_cycles.end(),
-                                                static_cast<int>(c)) != net.s_cycles.end();
-                    if (is_s || g == 1) {  // g = 1: the four curves include the system's two
-                        std::vector<char> mine(b.s_.num_vertices(), 0);
-                        for (int v : b.curves_[c]) mine[v] = 1;
-                        for (size_t v = 0; v < dirty.size(); ++v)
-                            dirty[v] = dirty[v] || (on_system[v] && !mine[v]);
-                    }
-                    remove_hairpins(b.s_, b.curves_[c], b.closed_[c], dirty, corner);
-                }
-            }
-            // Layout edges: each closed curve cut at its two corners, then the arcs.
-            auto edge_paths_of = [&](const Builder& bb, const Network& nn) {
-                std::vector<std::vector<int>> paths;
-                for (const auto& [id, cs] : nn.closed) {
-                    Cycle c = bb.curves_[id];
-                    const int i0 = index_in(c, cs[0]);
-                    QC_CHECK(i0 >= 0 && index_in(c, cs[1]) >= 0, "a layout cycle lost its corners");
-                    std::rotate(c.begin(), c.begin() + i0, c.end());
-                    const int i1 = index_in(c, cs[1]);
-                    paths.emplace_back(c.begin(), c.begin() + i1 + 1);
-                    std::vector<int> rest(c.begin() + i1, c.end());
-                    rest.push_back(c[0]);
-                    paths.push_back(rest);
-                }
-                for (int id : nn.arcs) paths.push_back(bb.curves_[id]);
-                return paths;
-            };
-            b.split_dividing_chords(edge_paths_of(b, net));
-            // The cage, patches and maps of a network, verified; "" or what fails. Times the maps
-            // and the check of the last call.
-            double mapped_seconds = 0, checked_seconds = 0;
-            auto finish = [&](const Builder& bb, const Network& nn, QuadLayout* L) {
-                L->mesh = bb.s_.mesh();
-                const double t0 = clock();
-                const std::string problem = detail::extract_cage(bb.s_, nn.corners, edge_paths_of(bb, nn), L);
-                if (!problem.empty()) return "the layout curves do not form a quad layout: " + problem;
-                detail::parameterize_patches(L);
-                const double t1 = clock();
-                say("verifying");
-                const std::string check = verify_quad_layout(*L);
-                mapped_seconds = t1 - t0;
-                checked_seconds = clock() - t1;
-                return check.empty() ? std::string() : "the quad layout fails its own check: " + check;
-            };
-            std::vector<std::vector<int>> paths = edge_paths_of(b, net);
-            bool finished = false;  // out holds the relaxed layout, built and verified
-            bool measured = false;  // and out.quality is measured (the relaxed-or-plain choice did)
+            detail::tighten_layout_curves(b, net, g);
+            b.split_dividing_chords(detail::layout_edge_paths(b, net));
+            detail::NetworkSeconds network_seconds;
             std::vector<int> s_cycle_ids = net.s_cycles;
-            if (options.relax_sweeps > 0) {
-                // Relax: corners towards an even share of their patches' area, every layout edge to
-                // the middle of its two patches. The relaxed edges become new curves (the
-                // orthogonal system keeps the routes Algorithm 1 gave it; the S-cycles are the
-                // relaxed closed curves from then on); chords they make are split as before. Should
-                // the relaxed network fail any check below, the unrelaxed one is kept.
-                say(options.relax_corner_sweeps > 0 ? "relaxing the layout corners and edges" : "relaxing the layout edges");
-                detail::RelaxOptions ro;
-                ro.sweeps = options.relax_sweeps;
-                try {
-                    Builder relaxed = b;
-                    std::vector<std::vector<int>> moved = paths;
-                    std::vector<int> corners = net.corners;
-                    int moves = 0;
-                    if (options.relax_corner_sweeps > 0) {
-                        // Corners and edges in turn: a moved corner's new edges run straight
-                        // through its star, the next edge pass centres them between their patches.
-                        detail::RelaxOptions once = ro;
-                        once.sweeps = 1;
-                        for (int sweep = 0; sweep < ro.sweeps; ++sweep) {
-                            if (sweep < options.relax_corner_sweeps)
-                                moves += detail::relax_layout_corners(relaxed.s_, &corners, &moved, ro);
-                            moves += detail::relax_layout_edges(relaxed.s_, &moved, once);
-                        }
-                    } else {
-                        moves = detail::relax_layout_edges(relaxed.s_, &moved, ro);
-                    }
-                    if (moves > 0) {
-                        Network rn;
-                        rn.corners = corners;
-                        auto moved_corner = [&](int v) {
-                            return corners[std::find(net.corners.begin(), net.corners.end(), v) - net.corners.begin()];
-                        };
-                        for (auto& o : relaxed.obstacle_) o = 0;
-                        size_t k = 0;
-                        for (const auto& [id, cs] : net.closed) {
-                            Cycle c = moved[k];
-                            c.insert(c.end(), moved[k + 1].begin() + 1, moved[k + 1].end() - 1);
-                            k += 2;
-                            rn.closed.push_back({relaxed.add_curve(c, true, true), {moved_corner(cs[0]), moved_corner(cs[1])}});
-                        }
-                        for (size_t a = 0; a < net.arcs.size(); ++a)
-                            rn.arcs.push_back(relaxed.add_curve(moved[k++], false, true));
-                        relaxed.split_dividing_chords(edge_paths_of(relaxed, rn));
-                        QuadLayout trial = out;
-                        const std::string problem = finish(relaxed, rn, &trial);
-                        // Relaxing pulls each edge to the middle of its two patches, which can
-                        // undo a decomposition chosen for balance (a genus-1 body's halving
-                        // second longitude went back round the handle: area max/min 13.5 -> 31.6,
-                        // angle deviation 15.7 -> 31.5 deg). The unrelaxed layout is kept when it
-                        // is better in both figures. Only the torus's decomposition is chosen so:
-                        // elsewhere the unrelaxed layout was never kept, and mapping and verifying
-                        // it cost botijo 0.3 s and skull 0.55 s (timed), igea under 1.3 s (the
-                        // interval between the progress lines round it).
-                        std::optional<Builder> plain_builder;
-                        QuadLayout plain;
-                        bool keep_plain = false;
-                        if (problem.empty() && g == 1) {
-                            plain_builder = b;
-                            plain = out;
-                            if (finish(*plain_builder, net, &plain).empty()) {
-                                detail::measure_quality(&trial);
-                                detail::measure_quality(&plain);
-                                measured = true;
-                                keep_plain = plain.quality.patch_area_max_over_min <
-                                                 trial.quality.patch_area_max_over_min &&
-                                             plain.quality.corner_angle_mean_deviation_deg <
-                                                 trial.quality.corner_angle_mean_deviation_deg;
-                            }
-                        }
-                        if (keep_plain) {
-                            say("the relaxed layout is less balanced and has worse corner angles; keeping it "
-                                "unrelaxed");
-                            b = std::move(*plain_builder);
-                            out = std::move(plain);
-                            finished = true;
-                        } else if (problem.empty()) {
-                            // The S-cycles are now the relaxed closed curves (through the moved corners).
-                            for (int& id : s_cycle_ids)
-                                for (size_t i = 0; i < net.closed.size(); ++i)
-                                    if (net.closed[i].first == id) {
-                                        id = rn.closed[i].first;
-                                        break;
-                                    }
-                            b = std::move(relaxed);
-                            out = std::move(trial);
-                            finished = true;
-                        } else {
-                            say("the relaxed layout edges fail a check (" + problem + "); keeping them unrelaxed");
-                        }
-                    }
-                } catch (const InternalError& e) {
-                    say(std::string("relaxing the layout edges failed (") + e.what() + "); keeping them unrelaxed");
-                }
-            }
-
+            bool measured = false;  // out.quality is measured (the relaxed-or-plain choice did)
+            const bool finished =   // out holds the relaxed layout, built and verified
+                options.relax_sweeps > 0 && detail::relax_network(&b, net, options, g, say, &out,
+                                                                  &s_cycle_ids, &network_seconds, &measured);
             if (!finished)
-                if (const std::string problem = finish(b, net, &out); !problem.empty()) throw InternalError(problem);
+                if (const std::string problem = detail::finish_network(b, net, &out, say, &network_seconds);
+                    !problem.empty())
+                    throw InternalError(problem);
             for (int i = 0; i < 2 * g; ++i) out.orthogonal_system.push_back(b.curves_[i]);
             for (int id : s_cycle_ids) out.s_cycles.push_back(b.curves_[id]);
             const double t_quality = clock();
             if (!measured) detail::measure_quality(&out);
             const double t_end = clock();
-            const double checked = checked_seconds + (t_end - t_quality);
-            out.seconds = {t_cycles, t_end - mapped_seconds - checked, mapped_seconds, checked};
+            const double checked = network_seconds.checked + (t_end - t_quality);
+            out.seconds = {t_cycles, t_end - network_seconds.mapped - checked, network_seconds.mapped,
+                           checked};
             return out;
         } catch (const OverBudget&) {
             throw;
@@ -439,14 +184,10 @@ double seconds_after_cycles(const QuadLayout::Seconds& s) {
     return s.curves + s.parameterization + s.verification;
 }
 
-}  // namespace
-
-QuadLayout build_quad_layout(const Mesh& input, const QuadLayoutOptions& options) {
-    if (const std::string e = options.validate(); !e.empty()) throw InvalidInput("quad layout options: " + e);
-    const Say say = [&options](const std::string& m) {
-        if (options.progress) options.progress(m);
-    };
-    const Cycles cycles = build_cycles(input, options);
+// The layout over `cycles` (build_variant()) with the S-cycles from the handle loops and, for
+// genus >= 2, with Algorithm 1's; the better of the two is kept (see below).
+QuadLayout layout_of_better_s_cycles(const Mesh& input, const Cycles& cycles,
+                                     const QuadLayoutOptions& options, const Say& say) {
     // Algorithm 1's layout for the comparison below depends only on the orthogonal system and the
     // bound, so it is built in a second thread while the handle loops' layout is built here. Its
     // progress messages are held back and said once it is known to be wanted (else it is stopped
@@ -539,122 +280,26 @@ QuadLayout build_quad_layout(const Mesh& input, const QuadLayoutOptions& options
         // own duration (time spent on the layout curves).
         out.seconds.curves += std::max(0.0, since(after_cycles) - seconds_after_cycles(out.seconds));
     }
-    // The curve searches split edges for room (Builder::split_chords and its kin); the splits no
-    // curve runs through once the layout is chosen are undone, and the patches where that happened
-    // mapped again.
-    auto undo_unused_refinement = [&](QuadLayout* L) {
-        const auto start = std::chrono::steady_clock::now();
-        QuadLayout lean;
-        std::vector<char> changed;
-        if (const int removed = detail::remove_unused_refinement(*L, &lean, &changed); removed > 0) {
-            detail::parameterize_patches(&lean, &changed);
-            if (const std::string problem = verify_quad_layout(lean); problem.empty()) {
-                detail::measure_quality(&lean);
-                say("refinement: " + std::to_string(removed) +
-                    " vertices no layout curve runs through removed");
-                lean.seconds = L->seconds;
-                *L = std::move(lean);
-            } else {
-                say("refinement: keeping the vertices no layout curve runs through (without them: " +
-                    problem + ")");
-            }
-        }
-        L->seconds.parameterization += since(start);
+    return out;
+}
+
+}  // namespace
+
+QuadLayout build_quad_layout(const Mesh& input, const QuadLayoutOptions& options) {
+    if (const std::string e = options.validate(); !e.empty()) throw InvalidInput("quad layout options: " + e);
+    const Say say = [&options](const std::string& m) {
+        if (options.progress) options.progress(m);
     };
-    bool embedded = false;
-    const bool embed = options.smooth_edges && options.edge_embedding_iterations > 0;
-    if (embed && out.mesh.num_vertices() > options.edge_embedding_max_vertices) {
-        // Each Newton step factorises the whole map's Hessian: measured on one BLAS thread, 0.37 s
-        // at 39k free vertices (botijo), 1.7 s at 158k, 8.4 s and 3.1 GiB at 648k (botijo split
-        // twice).
-        say("edge embedding: skipped: the layout mesh has " + std::to_string(out.mesh.num_vertices()) +
-            " vertices, more than " + std::to_string(options.edge_embedding_max_vertices) +
-            " (--edge-embedding-max-vertices); smoothing the edges instead");
-    } else if (embed) {
-        // Before the unused refinement is undone, as for smoothing below.
-        say("embedding the layout edges in one map of the surface");
-        const auto start = std::chrono::steady_clock::now();
-        QuadLayout e;
-        detail::EdgeEmbeddingReport r;
-        std::string why_not;
-        try {
-            why_not = detail::embed_layout_edges(out, options.edge_embedding_iterations, &e, &r);
-        } catch (const InternalError& error) {
-            // The smoothing below still gives clean edges; a failure here is a bug to report, not
-            // a reason to lose the layout.
-            why_not = std::string("it failed: ") + error.what();
-        }
-        if (why_not.empty()) {
-            char line[300];
-            std::snprintf(line, sizeof line,
-                          "edge embedding: %d Newton steps (%s) on %d vertices, energy %.4g -> %.4g; %.2f s",
-                          r.iterations, r.stopped.c_str(), r.variables, r.initial_energy, r.final_energy,
-                          r.seconds);
-            say(line);
-            detail::measure_quality(&e);
-            e.seconds = out.seconds;
-            e.edges_smoothed = true;
-            undo_unused_refinement(&e);
-            const long long added = e.mesh.num_vertices() - e.input_vertices;
-            const double before = out.quality.patch_area_max_over_min,
-                         after = e.quality.patch_area_max_over_min;
-            if (added > bound) {
-                why_not = "they add " + std::to_string(added) + " vertices, over the bound of " +
-                          std::to_string(bound);
-            } else if (!(after < before)) {
-                std::snprintf(line, sizeof line, "patch area max/min %.3g, not below %.3g", after, before);
-                why_not = line;
-            } else {
-                std::snprintf(
-                    line, sizeof line,
-                    "edge embedding: keeping the embedded edges: patch area max/min %.3g (was %.3g), "
-                    "corner angle deviation %.1f deg (was %.1f)",
-                    after, before, e.quality.corner_angle_mean_deviation_deg,
-                    out.quality.corner_angle_mean_deviation_deg);
-                say(line);
-                out = std::move(e);
-                embedded = true;
-            }
-        }
-        if (!embedded) say("edge embedding: not kept (" + why_not + "); smoothing the edges instead");
-        out.seconds.curves += since(start);
-    }
-    std::optional<QuadLayout> staircase;  // the layout before smoothing, while it may be wanted back
-    if (options.smooth_edges && !embedded) {
-        // Before the unused refinement is undone: the splits the old routes took are unused now.
-        say("smoothing the layout edges");
-        const auto start = std::chrono::steady_clock::now();
-        QuadLayout smooth;
-        detail::SmoothingReport r;
-        if (const std::string problem = detail::smooth_layout_edges(out, &smooth, &r); !problem.empty()) {
-            say("smoothing: keeping the edges along mesh edges (" + problem + ")");
-        } else {
-            detail::measure_quality(&smooth);
-            char line[200];
-            std::snprintf(
-                line, sizeof line,
-                "smoothing: the map made harmonic on %d vertices round the edges in %d steps; %.2f s",
-                r.band_vertices, r.iterations, r.seconds);
-            say(line);
-            smooth.seconds = out.seconds;
-            smooth.edges_smoothed = true;
-            staircase = std::move(out);
-            out = std::move(smooth);
-        }
-        out.seconds.curves += since(start);
-    }
-    undo_unused_refinement(&out);
-    if (staircase && out.mesh.num_vertices() - out.input_vertices > bound) {
-        // Each crossing of a mesh edge is a vertex: a plate's coarse, regular mesh (genus 11: 20330
-        // added, bound 16137, against 9473 along mesh edges) can take the smoothed edges past the
-        // bound.
-        say("smoothing: keeping the edges along mesh edges (smoothed, they add " +
-            std::to_string(out.mesh.num_vertices() - out.input_vertices) + " vertices, over the bound of " +
-            std::to_string(bound) + ")");
-        staircase->seconds = out.seconds;
-        out = std::move(*staircase);
-        undo_unused_refinement(&out);
-    }
+    // The orthogonal system of cycles (orthogonal_system.cpp), on the input or a refined copy.
+    const Cycles cycles = build_cycles(input, options);
+    // S-cycles and pieces (handle_loop_s_cycles.cpp, s_cycles.cpp, pieces.cpp), then T-shirts and
+    // handles (tshirts_and_handles.cpp) or the torus or the cube (torus_and_cube.cpp), relaxed and
+    // verified (network.cpp).
+    QuadLayout out = layout_of_better_s_cycles(input, cycles, options, say);
+    // The embedding: the layout edges along one map of the surface, else smoothed (edges.cpp).
+    const long long bound = vertices_added_bound(out.input_vertices, out.cage.num_corners());
+    detail::place_layout_edges(&out, options, bound, say);
+    // The experimental embedding stage, which can move the corners (embedding.cpp; off by default).
     if (options.embedding_iterations > 0) {
         const auto start = std::chrono::steady_clock::now();
         detail::EmbeddingOptions eo;

@@ -2,12 +2,14 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <iterator>
 #include <limits>
 #include <vector>
 
 #include "detail/curves.h"
+#include "detail/patches.h"
 #include "quadcage/core/errors.h"
 
 namespace quadcage::layout::detail {
@@ -211,6 +213,26 @@ int remove_unused_refinement(const QuadLayout& L, QuadLayout* out, std::vector<c
     out->triangle_patch = std::move(patch);
     out->corner_uv = std::move(uv);
     return removed;
+}
+
+void undo_unused_refinement(QuadLayout* L, const std::function<void(const std::string&)>& say) {
+    const auto start = std::chrono::steady_clock::now();
+    QuadLayout lean;
+    std::vector<char> changed;
+    if (const int removed = remove_unused_refinement(*L, &lean, &changed); removed > 0) {
+        parameterize_patches(&lean, &changed);
+        if (const std::string problem = verify_quad_layout(lean); problem.empty()) {
+            measure_quality(&lean);
+            say("refinement: " + std::to_string(removed) + " vertices no layout curve runs through removed");
+            lean.seconds = L->seconds;
+            *L = std::move(lean);
+        } else {
+            say("refinement: keeping the vertices no layout curve runs through (without them: " + problem +
+                ")");
+        }
+    }
+    L->seconds.parameterization +=
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 }  // namespace quadcage::layout::detail

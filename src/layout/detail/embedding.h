@@ -188,6 +188,17 @@ struct EdgeEmbeddingReport {
 std::string embed_layout_edges(const QuadLayout& layout, int iterations, QuadLayout* out,
                                EdgeEmbeddingReport* report);
 
+/// Where build_quad_layout() puts the layout edges (edges.cpp), on the relaxed layout: the edge
+/// embedding (embed_layout_edges(), `options.edge_embedding_iterations` steps) where the layout mesh
+/// has at most `options.edge_embedding_max_vertices` vertices, kept if it has a smaller patch area
+/// max/min and, once the refinement no curve runs through is undone (undo_unused_refinement()),
+/// adds at most `bound` vertices; else the smoothing (smooth_layout_edges()), kept unless it takes
+/// the mesh past the bound; else the edges along mesh edges. Progress lines say which, and why.
+/// With `options.smooth_edges` off, only the unused refinement is undone.
+/// \pre *layout is verified, its quality measured.
+void place_layout_edges(QuadLayout* layout, const QuadLayoutOptions& options, long long bound,
+                        const std::function<void(const std::string&)>& say);
+
 /// The embedding stage of build_quad_layout(): optimize_embedding(), relocate_cones() for
 /// `cone_sweeps` passes (0: none), then measure_area_potential(); one progress line with the
 /// figures. With `extract`, replaces *layout by extract_layout()'s result if that verifies and has a

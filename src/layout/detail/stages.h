@@ -2,7 +2,8 @@
 // The stages of build_quad_layout() (paper, Algorithm 1; design.md §2 and §4) and what they share:
 // the pieces of the cut surface (pieces.cpp), Algorithm 1's S-cycles (s_cycles.cpp), the S-cycles
 // from the handle loops (handle_loop_s_cycles.cpp), T-shirts and handles (tshirts_and_handles.cpp),
-// the torus and the cube (torus_and_cube.cpp). Private to src/layout.
+// the torus and the cube (torus_and_cube.cpp), and the network from its curves to a verified
+// layout (network.cpp). Private to src/layout.
 
 #include <array>
 #include <functional>
@@ -14,6 +15,7 @@
 #include <vector>
 
 #include "detail/curves.h"
+#include "quadcage/layout/quad_layout.h"
 
 namespace quadcage::layout::detail {
 
@@ -194,6 +196,40 @@ std::optional<std::vector<int>> route_ring(Builder& b, const std::vector<int>& s
 /// Genus >= 2: Algorithm 1, then handles (2 quads) and T-shirts (6 quads).
 Network network_of_handles_and_tshirts(Builder& b, int g, const std::vector<int>& handle_loops,
                                         bool from_handle_loops, const Say& say);
+
+// ---- The network: from its curves to a verified layout (network.cpp)
+
+/// Wall-clock seconds of the last finish_network(): the cage and the patch maps, and the check.
+struct NetworkSeconds {
+    double mapped = 0;
+    double checked = 0;
+};
+
+/// The layout edges of a network: each closed curve cut at its two corners (from the first corner
+/// to the second, then on round to the first), then the arcs.
+std::vector<std::vector<int>> layout_edge_paths(const Builder& b, const Network& net);
+
+/// Makes the network's curves the only obstacles (the orthogonal system is none any more) and takes
+/// the hairpins out of them: where a curve comes back next to itself round a small disk that holds
+/// nothing else, the detour is replaced by the shortcut. Shortest paths that must enter a corner's
+/// sector from one side make such detours; left in place, the one-vertex-wide sliver between their
+/// branches squeezes a patch map below rounding. S-cycles keep their single crossing with the
+/// orthogonal system.
+void tighten_layout_curves(Builder& b, const Network& net, int g);
+
+/// The cage (extract_cage()), the patch maps and verify_quad_layout() of a network, into *L (whose
+/// input_vertices and genus are set). Returns "" or what fails.
+std::string finish_network(const Builder& b, const Network& net, QuadLayout* L, const Say& say,
+                           NetworkSeconds* seconds);
+
+/// Relaxes the network's corners and edges (relax_layout_corners(), relax_layout_edges(); the
+/// options' sweeps) and builds the layout of the relaxed curves (finish_network()). Returns
+/// whether *out now holds a built and verified layout: the relaxed one, or for genus 1 the
+/// unrelaxed one where that is better in both balance figures; *b then holds its curves,
+/// *s_cycle_ids its S-cycles, and *measured says whether out->quality was measured. Returns false,
+/// with everything unchanged, if nothing moved or the relaxed layout fails a check.
+bool relax_network(Builder* b, const Network& net, const QuadLayoutOptions& options, int g, const Say& say,
+                   QuadLayout* out, std::vector<int>* s_cycle_ids, NetworkSeconds* seconds, bool* measured);
 
 // ---- Genus 0 and 1 (torus_and_cube.cpp)
 

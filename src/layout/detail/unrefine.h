@@ -4,6 +4,9 @@
 // they search (Builder::split_chords and its kin); most of those splits end up under a curve, but
 // many are left inside patches once the curves that needed them were rerouted or relaxed.
 
+#include <functional>
+#include <string>
+
 #include "quadcage/layout/quad_layout.h"
 
 namespace quadcage::layout::detail {
@@ -25,5 +28,11 @@ namespace quadcage::layout::detail {
 /// the result. quality is not recomputed.
 /// \pre layout is a verified layout (verify_quad_layout() returns "").
 int remove_unused_refinement(const QuadLayout& layout, QuadLayout* out, std::vector<char>* changed);
+
+/// remove_unused_refinement() on *L, the changed patches mapped again, kept if the result verifies
+/// (its quality then measured again); one progress line says which. Its time is added to
+/// L->seconds.parameterization.
+/// \pre *L is a verified layout.
+void undo_unused_refinement(QuadLayout* L, const std::function<void(const std::string&)>& say);
 
 }  // namespace quadcage::layout::detail

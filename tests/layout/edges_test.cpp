@@ -1,0 +1,112 @@
+// Where the layout edges finally run (place_layout_edges(), edges.cpp): along the edge embedding's
+// iso-lines where that is kept, else smoothed, else along mesh edges; within the refinement bound;
+// and the progress lines say which, and why.
+
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+#include "detail/embedding.h"
+#include "quadcage/core/mesh.h"
+#include "quadcage/core/shapes.h"
+#include "quadcage/layout/quad_layout.h"
+
+namespace quadcage::layout::detail {
+namespace {
+
+// A verified layout of a genus-2 plate with its edges along mesh edges, as the relaxation leaves
+// them (place_layout_edges()'s input in build_quad_layout()).
+const QuadLayout& staircase() {
+    static const QuadLayout L = [] {
+        QuadLayoutOptions o;
+        o.smooth_edges = false;
+        return build_quad_layout(shapes::plate_with_holes(2), o);
+    }();
+    return L;
+}
+
+long long bound_of(const QuadLayout& L) {
+    return vertices_added_bound(L.input_vertices, L.cage.num_corners());
+}
+
+bool said(const std::vector<std::string>& lines, const std::string& start) {
+    for (const std::string& m : lines)
+        if (m.rfind(start, 0) == 0) return true;
+    return false;
+}
+
+struct Placed {
+    QuadLayout layout;
+    std::vector<std::string> said;
+};
+
+Placed place(const QuadLayoutOptions& options, long long bound) {
+    Placed p{staircase(), {}};
+    place_layout_edges(&p.layout, options, bound, [&](const std::string& m) { p.said.push_back(m); });
+    return p;
+}
+
+void expect_same_corners(const QuadLayout& a, const QuadLayout& b) {
+    ASSERT_EQ(a.cage.num_corners(), b.cage.num_corners());
+    ASSERT_EQ(a.cage.num_quads(), b.cage.num_quads());
+    for (int k = 0; k < a.cage.num_corners(); ++k) {
+        EXPECT_EQ(a.cage.points[k].x, b.cage.points[k].x);
+        EXPECT_EQ(a.cage.points[k].y, b.cage.points[k].y);
+        EXPECT_EQ(a.cage.points[k].z, b.cage.points[k].z);
+    }
+}
+
+TEST(LayoutPlaceEdges, TheEdgesAreEmbeddedOrSmoothedWithinTheBoundAndTheProgressSaysWhich) {
+    const Placed p = place(QuadLayoutOptions{}, bound_of(staircase()));
+    const bool embedded = said(p.said, "edge embedding: keeping the embedded edges");
+    const bool smoothed = said(p.said, "smoothing: the map made harmonic");
+    EXPECT_NE(embedded, smoothed);
+    EXPECT_EQ(embedded, !said(p.said, "edge embedding: not kept"));
+    EXPECT_TRUE(p.layout.edges_smoothed);
+    EXPECT_EQ(verify_quad_layout(p.layout), "");
+    expect_same_corners(p.layout, staircase());
+    EXPECT_LE(p.layout.mesh.num_vertices() - p.layout.input_vertices, bound_of(staircase()));
+    if (embedded) {
+        EXPECT_LT(p.layout.quality.patch_area_max_over_min, staircase().quality.patch_area_max_over_min);
+    }
+}
+
+TEST(LayoutPlaceEdges, AboveTheVertexLimitTheEmbeddingIsSkippedAndTheEdgesAreSmoothed) {
+    QuadLayoutOptions o;
+    o.edge_embedding_max_vertices = staircase().mesh.num_vertices() - 1;
+    const Placed p = place(o, bound_of(staircase()));
+    EXPECT_TRUE(said(p.said, "edge embedding: skipped: the layout mesh has " +
+                                 std::to_string(staircase().mesh.num_vertices()) + " vertices"));
+    EXPECT_FALSE(said(p.said, "embedding the layout edges"));
+    EXPECT_TRUE(said(p.said, "smoothing: the map made harmonic"));
+    EXPECT_TRUE(p.layout.edges_smoothed);
+    EXPECT_EQ(verify_quad_layout(p.layout), "");
+    expect_same_corners(p.layout, staircase());
+}
+
+TEST(LayoutPlaceEdges, EdgesThatWouldPassTheBoundStayAlongMeshEdges) {
+    // Bound 0: every crossing of a mesh edge is a vertex too many, embedded or smoothed.
+    const Placed p = place(QuadLayoutOptions{}, 0);
+    EXPECT_TRUE(said(p.said, "edge embedding: not kept (they add "));
+    EXPECT_TRUE(said(p.said, "smoothing: keeping the edges along mesh edges (smoothed, they add "));
+    EXPECT_FALSE(p.layout.edges_smoothed);
+    EXPECT_EQ(verify_quad_layout(p.layout), "");
+    // The staircase as it came (its unused refinement was undone already).
+    EXPECT_EQ(p.layout.mesh.num_vertices(), staircase().mesh.num_vertices());
+    EXPECT_EQ(p.layout.triangle_patch, staircase().triangle_patch);
+}
+
+TEST(LayoutPlaceEdges, WithoutSmoothingTheEdgesStayAlongMeshEdges) {
+    QuadLayoutOptions o;
+    o.smooth_edges = false;
+    const Placed p = place(o, bound_of(staircase()));
+    EXPECT_FALSE(said(p.said, "edge embedding"));
+    EXPECT_FALSE(said(p.said, "embedding the layout edges"));
+    EXPECT_FALSE(said(p.said, "smoothing"));
+    EXPECT_FALSE(p.layout.edges_smoothed);
+    EXPECT_EQ(p.layout.triangle_patch, staircase().triangle_patch);
+}
+
+}  // namespace
+}  // namespace quadcage::layout::detail
