@@ -114,6 +114,7 @@ fit::FitOptions fit_options_of(const FitCommandOptions& o) {
         fit_options.level = o.level;
     }
     fit_options.solver = o.solver == "ceres" ? fit::FitSolver::Ceres : fit::FitSolver::Direct;
+    fit_options.outer_iterations = o.rounds;
     if (const std::string e = fit_options.validate(); !e.empty()) throw InvalidInput("fit: " + e);
     return fit_options;
 }

@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "quadcage/fit/fit.h"
 #include "quadcage/layout/quad_layout.h"
 
 namespace quadcage::cli {
@@ -60,6 +61,7 @@ struct FitCommandOptions {
     int max_level = 5;        ///< --max-level with --tolerance.
     std::string cage;         ///< --cage CAGE: fit this control mesh instead of building a layout.
     std::string solver = "direct";  ///< --solver: direct or ceres (fit::FitSolver).
+    int rounds = fit::FitOptions{}.outer_iterations;  ///< --rounds N: solve / correspondence rounds a level.
     double limit_max_error = 0;     ///< --limit-max-error R: limit.ply within R of the diagonal everywhere measured.
     std::string step;         ///< --step FILE: also export the fitted surface as a STEP solid.
     std::string iges;         ///< --iges FILE: ... and/or as IGES.

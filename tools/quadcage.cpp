@@ -157,6 +157,12 @@ int main(int argc, char** argv) {
                         "equations by CHOLMOD, analysed once per level) or ceres (one Levenberg-Marquardt step of\n"
                         "Ceres per round; the same fit up to rounding, several times slower)")
         ->check(CLI::IsMember({"direct", "ceres"}));
+    fit_cmd->add_option("--rounds", fitopt.rounds,
+                        "Rounds a level takes at most (default 16), each a solve with the feet fixed, then the\n"
+                        "feet found again; fewer once a round improves the data RMS by less than 0.2%. On 2 cores,\n"
+                        "8 fit botijo's level 3 in 6.7 s instead of 11.7 s, to relative RMS / Hausdorff 4.5e-4 /\n"
+                        "9.3e-3 instead of 3.2e-4 / 3.9e-3")
+        ->check(CLI::Range(1, 1000));
     fit_cmd->add_option("--limit-max-error", fitopt.limit_max_error,
                         "Tessellate limit.ply finely enough that its measured largest distance to the limit\n"
                         "surface is at most R of the bounding-box diagonal (default: only its RMS distance is\n"

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include "quadcage/core/io.h"
 #include "support/files.h"
@@ -170,6 +171,27 @@ TEST(CliFitEmbedding, BenchPassesTheFlagsToOurLayouts) {
     EXPECT_EQ(bench["meshes"][0]["status"], "ok") << bench["meshes"][0].dump();
     const std::string log = slurp(dir / "out" / "meshes" / "eight" / "log.txt");
     EXPECT_NE(log.find("embedding: keeping the extracted layout"), std::string::npos) << log;
+    fs::remove_all(dir);
+}
+
+// `fit --rounds N` caps the rounds of every level, with a layout and with --cage; N < 1 is a usage
+// error that writes nothing.
+TEST(CliFit, RoundsCapEveryLevel) {
+    const fs::path dir = scratch_dir("quadcage_fit_rounds_");
+    for (const std::string& cage :
+         std::vector<std::string>{"", " --cage " + shell_quoted(eight_quadriflow())}) {
+        const fs::path out = dir / (cage.empty() ? "layout" : "cage");
+        const CliRun r = quadcage_cli(
+            "fit " + shell_quoted(eight()) + cage + " --level 2 --rounds 3 -q -o " + shell_quoted(out), dir);
+        ASSERT_EQ(r.code, 0) << r.log;
+        const nlohmann::json report = nlohmann::json::parse(slurp(out / "report.json"));
+        ASSERT_EQ(report["levels"].size(), 2u);
+        for (const auto& level : report["levels"]) EXPECT_EQ(level["iterations"], 3) << level.dump();
+    }
+    const CliRun zero =
+        quadcage_cli("fit " + shell_quoted(eight()) + " --rounds 0 -q -o " + shell_quoted(dir / "zero"), dir);
+    EXPECT_EQ(zero.code, 2) << zero.log;
+    EXPECT_FALSE(fs::exists(dir / "zero"));
     fs::remove_all(dir);
 }
 
