@@ -413,7 +413,7 @@ TEST(FitOutputs, QuadObjAndReportWithoutTessellation) {
 // The rounds a level takes by default (FitOptions::outer_iterations) bring the fit of a real
 // layout, whose patch maps are far from isometric, close to where more rounds end. Measured on
 // fertility at level 3, relative RMS: 8 rounds 2.38e-4, 16 1.91e-4, 32 1.77e-4 (botijo: 4.72e-4,
-// 3.19e-4, 2.87e-4); the default of 8 that this replaced left 25% of the RMS to the next 8 rounds.
+// 3.19e-4, 2.87e-4). At the old default of 8, twice the rounds took a fifth off the RMS.
 TEST(FitSurface, TwiceTheDefaultRoundsGainLittleOnARealLayout) {
     if (!test::have_shared_meshes()) GTEST_SKIP() << "shared meshes not found";
     const layout::QuadLayout layout = layout::build_quad_layout(test::load_shared("fertility.off"));

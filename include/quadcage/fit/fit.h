@@ -48,7 +48,7 @@ struct FitOptions {
                                 ///< data RMS of a real layout's fit still fell 7% a round (botijo,
                                 ///< level 3). 16 took botijo's level-3 fit from 4.46e-4 /
                                 ///< 9.31e-3 to 3.18e-4 / 3.86e-3 (check_fit.py), its fit stage from
-                                ///< 6.4-7.0 s to 10.7-11.5 s; 32 gain 10% RMS more.
+                                ///< 6.4-7.0 s to 10.7-11.7 s; 32 take 10% more off the RMS.
     FitSolver solver = FitSolver::Direct;  ///< How each round is solved.
     int solver_iterations = 1;  ///< FitSolver::Ceres: Levenberg-Marquardt steps per solve, >= 1. With the feet fixed
                                 ///< the residuals are linear in the control points (up to the Huber
