@@ -20,7 +20,9 @@ if [ $# -gt 0 ] && [ -d "$1" ]; then build=$1; shift; fi
 labels=() flag_sets=() list=()
 while [ $# -gt 0 ]; do
   case "$1" in
-    --variant) labels+=("${2%%=*}"); flag_sets+=("${2#*=}"); shift 2 ;;
+    --variant)
+      case "${2:-}" in *=*) ;; *) echo "fit_compare.sh: --variant takes LABEL=FLAGS" >&2; exit 2 ;; esac
+      labels+=("${2%%=*}"); flag_sets+=("${2#*=}"); shift 2 ;;
     -h|--help) sed -n '2,15p' "$0"; exit 0 ;;
     *) list+=("$1"); shift ;;
   esac
