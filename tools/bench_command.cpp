@@ -54,6 +54,7 @@ int run_bench(const BenchCommandOptions& o) {
     b.output_dir = o.output_dir;
     b.levels = parse_levels(o.levels);
     b.tolerance = o.tolerance;
+    b.fit_rounds = o.rounds;
     b.jobs = o.jobs;
     b.timeout_seconds = o.timeout_seconds;
     b.peer = !o.no_peer;

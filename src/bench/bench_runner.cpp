@@ -332,6 +332,10 @@ private:
         else m_.notes.push_back(name + ": not drawn (" + (status == "ok" ? "no file written" : status) + ")");
     }
 
+    void add_rounds(std::vector<std::string>* argv) const {
+        if (o_.fit_rounds > 0) argv->insert(argv->end(), {"--rounds", std::to_string(o_.fit_rounds)});
+    }
+
     void run_fits() {
         for (int level : o_.levels) {
             LevelResult l;
@@ -343,6 +347,7 @@ private:
             std::vector<std::string> argv = substitute(o_.commands.fit, v);
             argv.insert(argv.end(), o_.layout_flags.begin(), o_.layout_flags.end());
             if (o_.tolerance > 0) argv.insert(argv.end(), {"--tolerance", fmt_g(o_.tolerance)});
+            add_rounds(&argv);
             const ChildResult r = stage("fit level " + std::to_string(level), argv);
             l.peak_memory_mib = r.peak_memory_mib;
             l.status = outcome(r, o_.timeout_seconds, &l.reason);
@@ -396,7 +401,9 @@ private:
         auto v = vars();
         v["cage"] = cage.string();
         v["dir"] = fit_dir.string();
-        const ChildResult r = stage("peer fit level " + std::to_string(p.level), substitute(o_.commands.peer_fit, v));
+        std::vector<std::string> argv = substitute(o_.commands.peer_fit, v);
+        add_rounds(&argv);
+        const ChildResult r = stage("peer fit level " + std::to_string(p.level), argv);
         std::string reason;
         const std::string status = outcome(r, o_.timeout_seconds, &reason);
         if (status == "rejected") return "rejected: " + reason;
@@ -606,6 +613,7 @@ std::string BenchOptions::validate() const {
     if (peer_attempts < 1 || peer_attempts > 16) return "peer attempts must be 1..16";
     if (!(timeout_seconds > 0) || !std::isfinite(timeout_seconds)) return "timeout must be a positive number of seconds";
     if (!(tolerance >= 0) || !std::isfinite(tolerance)) return "tolerance must be >= 0";
+    if (fit_rounds < 0 || fit_rounds > 1000) return "fit rounds must be 1..1000 (0: fit's default)";
     for (size_t i = 0; i < levels.size(); ++i) {
         if (levels[i] < 0 || levels[i] > 8) return "level " + std::to_string(levels[i]) + " is outside 0..8";
         for (size_t k = 0; k < i; ++k)
@@ -623,6 +631,7 @@ BenchResult run_bench(const std::vector<BenchInput>& inputs, const BenchOptions&
     BenchResult result;
     result.levels = o.levels;
     result.layout_flags = o.layout_flags;
+    result.fit_rounds = o.fit_rounds;
     result.meshes.resize(inputs.size());
     const Clock::time_point start = Clock::now();
     std::mutex progress_mutex;

@@ -398,6 +398,45 @@ TEST_F(BenchRunner, LayoutFlagsReachTheLayoutAndOurFitsButNotThePeersFit) {
               std::string::npos);
 }
 
+TEST_F(BenchRunner, RoundsReachOurFitsAndThePeersFit) {
+    // Both fits of a level must use the same fitter settings: the ratios compare the cages.
+    auto logged = [](const char* tag, std::vector<std::string> argv) {
+        const std::string script = std::string("echo ") + tag + ": \"$@\" >&2; exec \"$0\" \"$@\"";
+        argv.insert(argv.begin(), {"/bin/sh", "-c", script});
+        return argv;
+    };
+    BenchOptions o = options();
+    o.pictures = false;
+    o.levels = {0};
+    o.fit_rounds = 5;
+    o.commands.fit = logged("fit-args", {"{exe}", "fit", "{mesh}", "-o", "{dir}", "--level", "{level}"});
+    o.commands.peer_fit =
+        logged("peer-fit-args", {"{exe}", "fit", "{mesh}", "--cage", "{cage}", "--level", "0", "-o", "{dir}"});
+    const BenchResult r = run_bench({mesh("good")}, o);
+    ASSERT_EQ(r.meshes[0].status, "ok");
+    const std::string log = slurp(dir_ / "out" / "meshes" / "good" / "log.txt");
+    const auto line = [&](const std::string& tag) {
+        const size_t at = log.find(tag + ":");
+        return at == std::string::npos ? std::string() : log.substr(at, log.find('\n', at) - at);
+    };
+    EXPECT_NE(line("fit-args").find("--level 0 --rounds 5"), std::string::npos) << log;
+    EXPECT_NE(line("peer-fit-args").find("--level 0 -o"), std::string::npos) << log;
+    EXPECT_NE(line("peer-fit-args").find("--rounds 5"), std::string::npos) << log;
+    write_bench_tables(o.output_dir, r);
+    const auto j = nlohmann::json::parse(slurp(dir_ / "out" / "bench.json"));
+    EXPECT_EQ(j["fit_rounds"], 5);
+    EXPECT_NE(slurp(dir_ / "out" / "bench.md").find("`--rounds 5`"), std::string::npos);
+
+    // Without it, neither fit gets the flag and the tables say null.
+    o.fit_rounds = 0;
+    o.output_dir = (dir_ / "out2").string();
+    const BenchResult r2 = run_bench({mesh("good")}, o);
+    ASSERT_EQ(r2.meshes[0].status, "ok");
+    EXPECT_EQ(slurp(dir_ / "out2" / "meshes" / "good" / "log.txt").find("--rounds"), std::string::npos);
+    write_bench_tables(o.output_dir, r2);
+    EXPECT_TRUE(nlohmann::json::parse(slurp(dir_ / "out2" / "bench.json"))["fit_rounds"].is_null());
+}
+
 TEST_F(BenchRunner, AMissingStageCommandIsAFailureNotAnAbort) {
     BenchOptions o = options();
     o.pictures = false;
@@ -416,6 +455,11 @@ TEST(BenchOptionsValidate, RejectsBadValues) {
     o.jobs = 0;
     EXPECT_NE(o.validate(), "");
     o.jobs = 1;
+    o.fit_rounds = -1;
+    EXPECT_NE(o.validate().find("rounds"), std::string::npos);
+    o.fit_rounds = 1001;
+    EXPECT_NE(o.validate().find("rounds"), std::string::npos);
+    o.fit_rounds = 0;
     o.levels = {0, 0};
     EXPECT_NE(o.validate().find("twice"), std::string::npos);
     o.levels = {9};

@@ -35,6 +35,9 @@ struct BenchOptions {
     std::string output_dir;          ///< Receives bench.csv/json/md, plot.png and meshes/<name>/ (created).
     std::vector<int> levels = {0, 1, 2, 3};  ///< Fit levels, each 0..8; may be empty (no fits).
     double tolerance = 0;            ///< If > 0, `--tolerance T` is appended to every fit command.
+    /// If > 0, `--rounds N` is appended to every fit command, ours and the peer's alike, so the
+    /// equal-control-point comparison runs one fitter on both cages (fit's default: 16).
+    int fit_rounds = 0;
     int jobs = 1;                    ///< Meshes processed at the same time (1..64).
     double timeout_seconds = 1800;   ///< Wall-clock limit of every child process (> 0).
     bool pictures = true;            ///< Run the render stage after layout and after each fit.

@@ -98,6 +98,7 @@ struct BenchResult {
     std::vector<MeshResult> meshes;       ///< In input order.
     std::vector<int> levels;              ///< Levels requested.
     std::vector<std::string> layout_flags;  ///< BenchOptions::layout_flags: how our layouts were made.
+    int fit_rounds = 0;                   ///< BenchOptions::fit_rounds (0: fit's default).
     double wall_seconds = 0;
     std::string plot_png;                 ///< RMS against control points; relative path, empty if none.
 };
