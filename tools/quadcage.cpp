@@ -65,7 +65,8 @@ std::vector<CLI::Option*> add_embedding_flags(CLI::App* cmd, quadcage::cli::Embe
                "smoothed): one map of the whole surface over the cage's squares, the corners and each\n"
                "edge's first and last tenth held, whose iso-lines become the layout edges when they\n"
                "spread the area more evenly over the patches and stay within the refinement bound.\n"
-               "Costs a factorisation a step: about 0.25 s at 40k vertices (botijo)")
+               "Costs a factorisation a step: at botijo's 39k vertices on 2 cores, 0.2-0.3 s of a\n"
+               "0.4 s step (30 steps: 12-14 s, most of its layout time)")
             ->check(CLI::NonNegativeNumber));
     all.push_back(
         cmd->add_option("--edge-embedding-max-vertices", flags.edge_embedding_max_vertices,
