@@ -360,15 +360,19 @@ TEST_F(BenchRunner, ToleranceIsPassedToFit) {
     EXPECT_EQ(r.meshes[0].levels[0].status, "failed: no readable report.json");
 }
 
+/// A stage command that logs its argv ("TAG: args") through a shell, then runs it ($0: the fake child).
+std::vector<std::string> logged(const char* tag, std::vector<std::string> argv) {
+    argv.insert(argv.begin(), {"/bin/sh", "-c", std::string("echo ") + tag + ": \"$@\" >&2; exec \"$0\" \"$@\""});
+    return argv;
+}
+
+/// The line of `log` that starts with "TAG:", or "" if none does.
+std::string logged_line(const std::string& log, const std::string& tag) {
+    const size_t at = log.find(tag + ":");
+    return at == std::string::npos ? std::string() : log.substr(at, log.find('\n', at) - at);
+}
+
 TEST_F(BenchRunner, LayoutFlagsReachTheLayoutAndOurFitsButNotThePeersFit) {
-    // Each template logs its argv through a shell, then runs the fake child with it ($0).
-    const std::string log_then_run = "echo %s: \"$@\" >&2; exec \"$0\" \"$@\"";
-    auto logged = [&](const char* tag, std::vector<std::string> argv) {
-        char script[128];
-        std::snprintf(script, sizeof script, log_then_run.c_str(), tag);
-        argv.insert(argv.begin(), {"/bin/sh", "-c", script});
-        return argv;
-    };
     BenchOptions o = options();
     o.pictures = false;
     o.levels = {0};
@@ -380,10 +384,7 @@ TEST_F(BenchRunner, LayoutFlagsReachTheLayoutAndOurFitsButNotThePeersFit) {
     const BenchResult r = run_bench({mesh("good")}, o);
     ASSERT_EQ(r.meshes[0].status, "ok");
     const std::string log = slurp(dir_ / "out" / "meshes" / "good" / "log.txt");
-    const auto line = [&](const std::string& tag) {
-        const size_t at = log.find(tag + ":");
-        return at == std::string::npos ? std::string() : log.substr(at, log.find('\n', at) - at);
-    };
+    const auto line = [&](const std::string& tag) { return logged_line(log, tag); };
     EXPECT_NE(line("layout-args").find("--embedding-iterations 30 --embedding-extract"), std::string::npos)
         << log;
     EXPECT_NE(line("fit-args").find("--level 0 --embedding-iterations 30 --embedding-extract"),
@@ -400,11 +401,6 @@ TEST_F(BenchRunner, LayoutFlagsReachTheLayoutAndOurFitsButNotThePeersFit) {
 
 TEST_F(BenchRunner, RoundsReachOurFitsAndThePeersFit) {
     // Both fits of a level must use the same fitter settings: the ratios compare the cages.
-    auto logged = [](const char* tag, std::vector<std::string> argv) {
-        const std::string script = std::string("echo ") + tag + ": \"$@\" >&2; exec \"$0\" \"$@\"";
-        argv.insert(argv.begin(), {"/bin/sh", "-c", script});
-        return argv;
-    };
     BenchOptions o = options();
     o.pictures = false;
     o.levels = {0};
@@ -415,10 +411,7 @@ TEST_F(BenchRunner, RoundsReachOurFitsAndThePeersFit) {
     const BenchResult r = run_bench({mesh("good")}, o);
     ASSERT_EQ(r.meshes[0].status, "ok");
     const std::string log = slurp(dir_ / "out" / "meshes" / "good" / "log.txt");
-    const auto line = [&](const std::string& tag) {
-        const size_t at = log.find(tag + ":");
-        return at == std::string::npos ? std::string() : log.substr(at, log.find('\n', at) - at);
-    };
+    const auto line = [&](const std::string& tag) { return logged_line(log, tag); };
     EXPECT_NE(line("fit-args").find("--level 0 --rounds 5"), std::string::npos) << log;
     EXPECT_NE(line("peer-fit-args").find("--level 0 -o"), std::string::npos) << log;
     EXPECT_NE(line("peer-fit-args").find("--rounds 5"), std::string::npos) << log;
