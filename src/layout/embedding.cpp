@@ -680,7 +680,7 @@ std::string smooth_layout_edges(const QuadLayout& L, QuadLayout* out, SmoothingR
 }
 
 std::string embed_layout_edges(const QuadLayout& L, int iterations, QuadLayout* out,
-                               EdgeEmbeddingReport* report) {
+                               EdgeEmbeddingReport* report, double tolerance) {
     const auto start = std::chrono::steady_clock::now();
     const Surface s(L.mesh);
     SeamlessMap map;
@@ -691,6 +691,7 @@ std::string embed_layout_edges(const QuadLayout& L, int iterations, QuadLayout* 
     for (size_t v = 0; v < held.size(); ++v) free[v] = !held[v];
     EmbeddingOptions symmetric_dirichlet;
     symmetric_dirichlet.iterations = iterations;
+    symmetric_dirichlet.tolerance = tolerance;
     const EmbeddingReport r = newton(L, s, symmetric_dirichlet, &map, false, &free);
     report->variables = r.variables;
     report->iterations = r.iterations;

@@ -17,6 +17,7 @@
 #include "quadcage/core/mesh.h"
 #include "quadcage/core/shapes.h"
 #include "quadcage/layout/quad_layout.h"
+#include "support/files.h"
 
 namespace quadcage::layout::detail {
 namespace {
@@ -212,6 +213,28 @@ TEST_P(LayoutEmbedEdges, OneMapMovesTheEdgesButNotTheCornersOrTheirDirections) {
 
 INSTANTIATE_TEST_SUITE_P(Shapes, LayoutEmbedEdges, ::testing::ValuesIn(kShapes),
                          [](const auto& info) { return std::string(info.param.name); });
+
+// The embedding stops once a step lowers the energy by less than kEdgeEmbeddingTolerance: on a real
+// layout it ends sooner than with every step taken, almost as low, and as well balanced.
+TEST(LayoutEmbedEdges, StopsWhereAStepGainsLittleNearlyAsLowAsWithEveryStep) {
+    if (!test::have_shared_meshes()) GTEST_SKIP() << "no shared meshes";
+    const QuadLayout L = staircase_layout(test::load_shared("fertility.off"));
+    QuadLayout E, all;
+    EdgeEmbeddingReport r, r_all;
+    ASSERT_EQ(embed_layout_edges(L, 30, &E, &r), "");
+    ASSERT_EQ(embed_layout_edges(L, 30, &all, &r_all, 0.0), "");
+    std::printf("fertility: %d steps (%s), energy %.5g; every step: %d (%s), %.5g\n", r.iterations,
+                r.stopped.c_str(), r.final_energy, r_all.iterations, r_all.stopped.c_str(), r_all.final_energy);
+    EXPECT_NE(r.stopped.find("converged"), std::string::npos) << r.stopped;
+    EXPECT_LT(r.iterations, r_all.iterations);
+    EXPECT_LE(r_all.final_energy, r.final_energy);
+    EXPECT_LT(r.final_energy, 1.02 * r_all.final_energy);
+    EXPECT_EQ(verify_quad_layout(E), "");
+    measure_quality(&E);
+    measure_quality(&all);
+    EXPECT_LT(E.quality.patch_area_max_over_min, 1.1 * all.quality.patch_area_max_over_min)
+        << E.quality.patch_area_max_over_min << " vs " << all.quality.patch_area_max_over_min;
+}
 
 // By default the driver embeds the edges, or smooths them where the embedded ones are no better
 // balanced or pass the refinement bound, and says which.
