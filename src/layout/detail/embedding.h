@@ -187,8 +187,9 @@ struct EdgeEmbeddingReport {
 /// in smooth_layout_edges(), minimise the symmetric Dirichlet energy at the scale area / quads
 /// (optimize_embedding()'s energy) over every vertex but the corners' stars and each edge's first
 /// and last tenth of its length with the ring round them, by flip-free Newton steps: at most
-/// `iterations`, and none after a step that lowers the energy by less than `tolerance` of it. Where the relaxation crowded the corners, this moves the edges between them so
-/// that the surface spreads more evenly over the squares, while the corners and the directions
+/// `iterations`, and none after a step that lowers the energy by less than `tolerance` of it.
+/// Where the relaxation crowded the corners, this moves the edges between them so that the
+/// surface spreads more evenly over the squares, while the corners and the directions
 /// their edges leave them in (the corner angles check_layout.py measures) stay. The mesh is cut
 /// along the map's integer iso-lines (extract_layout(), crossings slid as in
 /// smooth_layout_edges()), so the edges run across the triangles. Returns "" and fills *out, or
