@@ -61,8 +61,8 @@ std::vector<CLI::Option*> add_embedding_flags(CLI::App* cmd, quadcage::cli::Embe
     all.push_back(
         cmd->add_option(
                "--edge-embedding", flags.edge_embedding,
-               "Newton iterations of the global edge embedding at most (default 30; 0: off, the edges are only\n"
-               "smoothed): one map of the whole surface over the cage's squares, the corners and each\n"
+               "Newton steps of the global edge embedding, at most (default 30; 0: off, the edges are\n"
+               "only smoothed): one map of the whole surface over the cage's squares, the corners and each\n"
                "edge's first and last tenth held, whose iso-lines become the layout edges when they\n"
                "spread the area more evenly over the patches and stay within the refinement bound.\n"
                "Stops after a step that lowers its energy by less than 0.2%. Costs a factorisation a\n"
