@@ -349,8 +349,17 @@ int run_generate(const GenerateOptions& o) {
         h.bumps = o.bumps;
         h.seed = o.seed;
         mesh = shapes::body_with_handles(h);
+    } else if (o.shape == "wheel") {
+        if (o.genus < 1 || o.genus > 65)
+            throw InvalidInput("generate wheel: --genus must be in 1..65 (the axle's hole and up to 64 more), got " +
+                               std::to_string(o.genus));
+        shapes::WheelOptions w;
+        w.holes = o.genus - 1;
+        w.resolution = std::max(2, o.resolution);
+        w.ribs = o.ribs;
+        mesh = shapes::wheel(w);
     } else {
-        throw InvalidInput("unknown shape '" + o.shape + "' (use sphere, torus, plate, limbs or handles)");
+        throw InvalidInput("unknown shape '" + o.shape + "' (use sphere, torus, plate, limbs, handles or wheel)");
     }
     write_mesh_by_extension(o.output, mesh);
     std::printf("%s: %d vertices, %d triangles\n", o.output.c_str(), mesh.num_vertices(), mesh.num_triangles());

@@ -84,14 +84,15 @@ struct ExportOptions {
 int run_export(const ExportOptions& options);
 
 struct GenerateOptions {
-    std::string shape;   ///< "sphere", "torus", "plate", "limbs" or "handles".
-    int genus = 2;       ///< plate, handles.
+    std::string shape;   ///< "sphere", "torus", "plate", "limbs", "handles" or "wheel".
+    int genus = 2;       ///< plate, handles, wheel (at least 1: the axle).
     int resolution = 2;  ///< plate: grid cells per unit; sphere, limbs: subdivisions; torus: segments / 8;
-                         ///< handles: voxels per cell.
+                         ///< handles, wheel: voxels per cell.
     bool in_a_row = false;  ///< handles only: side by side along one edge.
     int limbs = 4;       ///< limbs only: protrusions.
     unsigned seed = 1;   ///< limbs: which figure; handles: where the bumps go.
     int bumps = 0;       ///< handles only: bumps and dents on the body.
+    int ribs = 0;        ///< wheel only: radial ribs round the hub.
     std::string output;
 };
 int run_generate(const GenerateOptions& options);

@@ -211,15 +211,18 @@ int main(int argc, char** argv) {
     CLI::App* gen_cmd = app.add_subcommand("generate", "Write a closed test surface of known genus.");
     gen_cmd->add_option("SHAPE", gen.shape,
                         "sphere, torus, plate (a thickened plate with holes), limbs (a genus-0 body with\n"
-                        "long limbs, like a cartoon figure) or handles (a big smooth body with --genus small\n"
-                        "handles on its top)")
+                        "long limbs, like a cartoon figure), handles (a big smooth body with --genus small\n"
+                        "handles on its top) or wheel (a disc with an axle through a hub and --genus - 1\n"
+                        "holes in a ring round it)")
         ->required()
-        ->check(CLI::IsMember({"sphere", "torus", "plate", "limbs", "handles"}));
-    gen_cmd->add_option("--genus,-g", gen.genus, "Number of holes of the plate, or of handles (handles: at most 64)")
+        ->check(CLI::IsMember({"sphere", "torus", "plate", "limbs", "handles", "wheel"}));
+    gen_cmd->add_option("--genus,-g", gen.genus,
+                        "Number of holes of the plate, of handles (handles: at most 64), or the wheel's\n"
+                        "genus (its holes and the axle; 1..65)")
         ->check(CLI::Range(0, 200));
     gen_cmd->add_option("--resolution,-r", gen.resolution,
                         "Mesh resolution (plate: cells per unit; sphere, limbs: icosphere subdivisions;\n"
-                        "handles: voxels per handle width, at least 2)")
+                        "handles: voxels per handle width, wheel: voxels per disc thickness, at least 2)")
         ->check(CLI::Range(1, 64));
     gen_cmd->add_flag("--in-a-row", gen.in_a_row, "handles: side by side along one edge of the top (genus in one region)");
     gen_cmd->add_option("--limbs", gen.limbs, "limbs: number of limbs (default 4)")->check(CLI::Range(0, 32));
@@ -227,6 +230,8 @@ int main(int argc, char** argv) {
         ->add_option("--bumps", gen.bumps,
                      "handles: smooth bumps and dents on the body below its top, a body with detail of\n"
                      "its own (default 0: a plain ball)")
+        ->check(CLI::Range(0, 64));
+    gen_cmd->add_option("--ribs", gen.ribs, "wheel: radial ribs one cell high round the hub (default 0)")
         ->check(CLI::Range(0, 64));
     gen_cmd->add_option("--seed", gen.seed, "limbs: which figure; handles: where the bumps go (default 1)");
     gen_cmd->add_option("-o,--output", gen.output, "Output file (.obj or .ply)")->required();

@@ -9,6 +9,7 @@
 #include <string>
 #include <unordered_map>
 #include <utility>
+#include <vector>
 
 #include "quadcage/core/errors.h"
 
@@ -134,6 +135,48 @@ private:
     static constexpr double kWobbleZ = 0.05;
     double width_, height_, half_t_, radius_ = 1.0;
 };
+
+// Taubin smoothing (Taubin 1995): a shrinking step lambda = 0.5 and an inflating step mu = -0.53 per
+// pass round voxel steps off without shrinking the solid. Moves the points only.
+void taubin_smooth(Mesh* mesh, int passes) {
+    std::vector<std::vector<int>> nbr(mesh->points.size());
+    for (const Triangle& t : mesh->triangles)
+        for (int e = 0; e < 3; ++e) nbr[t[e]].push_back(t[(e + 1) % 3]), nbr[t[(e + 1) % 3]].push_back(t[e]);
+    for (auto& v : nbr) {
+        std::sort(v.begin(), v.end());
+        v.erase(std::unique(v.begin(), v.end()), v.end());
+    }
+    std::vector<Vec3> next(mesh->points.size());
+    for (int pass = 0; pass < 2 * passes; ++pass) {
+        const double step = pass % 2 == 0 ? 0.5 : -0.53;
+        for (size_t v = 0; v < mesh->points.size(); ++v) {
+            Vec3 mean{};
+            for (int w : nbr[v]) mean += mesh->points[w];
+            mean = mean / static_cast<double>(nbr[v].size());
+            next[v] = mesh->points[v] + (mean - mesh->points[v]) * step;
+        }
+        mesh->points.swap(next);
+    }
+}
+
+// The boundary of a voxel solid given by solid(i, j, k) on [0, nx) x [0, ny) x [0, nz), voxels of
+// side 1 / res (each face two triangles).
+template <class Solid>
+Mesh voxel_boundary(int nx, int ny, int nz, int res, const Solid& solid) {
+    VoxelSurface surface(nx, ny, nz, res, static_cast<double>(nz) / res);
+    for (int k = 0; k < nz; ++k)
+        for (int j = 0; j < ny; ++j)
+            for (int i = 0; i < nx; ++i) {
+                if (!solid(i, j, k)) continue;
+                if (!solid(i + 1, j, k)) surface.add_quad({i + 1, j, k}, kY, kZ);
+                if (!solid(i - 1, j, k)) surface.add_quad({i, j, k}, kZ, kY);
+                if (!solid(i, j + 1, k)) surface.add_quad({i, j + 1, k}, kZ, kX);
+                if (!solid(i, j - 1, k)) surface.add_quad({i, j, k}, kX, kZ);
+                if (!solid(i, j, k + 1)) surface.add_quad({i, j, k + 1}, kX, kY);
+                if (!solid(i, j, k - 1)) surface.add_quad({i, j, k}, kY, kX);
+            }
+    return surface.take();
+}
 
 }  // namespace
 
@@ -357,19 +400,7 @@ Mesh body_with_handles(const HandleBodyOptions& o) {
     auto solid = [&](int i, int j, int k) {
         return i >= 0 && j >= 0 && k >= 0 && i < nx && j < ny && k < nz && cell_at(i / res, j / res, k / res);
     };
-    VoxelSurface surface(nx, ny, nz, res, static_cast<double>(body + 2));
-    for (int k = 0; k < nz; ++k)
-        for (int j = 0; j < ny; ++j)
-            for (int i = 0; i < nx; ++i) {
-                if (!solid(i, j, k)) continue;
-                if (!solid(i + 1, j, k)) surface.add_quad({i + 1, j, k}, kY, kZ);
-                if (!solid(i - 1, j, k)) surface.add_quad({i, j, k}, kZ, kY);
-                if (!solid(i, j + 1, k)) surface.add_quad({i, j + 1, k}, kZ, kX);
-                if (!solid(i, j - 1, k)) surface.add_quad({i, j, k}, kX, kZ);
-                if (!solid(i, j, k + 1)) surface.add_quad({i, j, k + 1}, kX, kY);
-                if (!solid(i, j, k - 1)) surface.add_quad({i, j, k}, kY, kX);
-            }
-    Mesh mesh = surface.take();
+    Mesh mesh = voxel_boundary(nx, ny, nz, res, solid);
     // The cube onto a ball: each point scaled along its ray from the body's centre by
     // |q|_inf / |q|_2 (the cube's surface goes onto the inscribed sphere's radius). Injective along
     // every ray, so the surface stays embedded; the handles on the top go along, about unchanged
@@ -380,26 +411,7 @@ Mesh body_with_handles(const HandleBodyOptions& o) {
         const double inf = std::max({std::abs(q.x), std::abs(q.y), std::abs(q.z)}), two = norm(q);
         if (two > 0) p = centre + q * (inf / two);
     }
-    // Taubin smoothing (Taubin 1995): a shrinking step lambda and an inflating step mu per pass
-    // round the voxel steps off without shrinking the body.
-    std::vector<std::vector<int>> nbr(mesh.points.size());
-    for (const Triangle& t : mesh.triangles)
-        for (int e = 0; e < 3; ++e) nbr[t[e]].push_back(t[(e + 1) % 3]), nbr[t[(e + 1) % 3]].push_back(t[e]);
-    for (auto& v : nbr) {
-        std::sort(v.begin(), v.end());
-        v.erase(std::unique(v.begin(), v.end()), v.end());
-    }
-    std::vector<Vec3> next(mesh.points.size());
-    for (int pass = 0; pass < 2 * o.smoothing; ++pass) {
-        const double step = pass % 2 == 0 ? 0.5 : -0.53;
-        for (size_t v = 0; v < mesh.points.size(); ++v) {
-            Vec3 mean{};
-            for (int w : nbr[v]) mean += mesh.points[w];
-            mean = mean / static_cast<double>(nbr[v].size());
-            next[v] = mesh.points[v] + (mean - mesh.points[v]) * step;
-        }
-        mesh.points.swap(next);
-    }
+    taubin_smooth(&mesh, o.smoothing);
     if (o.bumps > 0) {
         // Relief: each point moved along its ray from the centre by a factor 1 + a sum of Gaussian
         // bumps and dents (height 0.12..0.3 of the radius, width 0.25..0.5 radians) centred on
@@ -434,6 +446,86 @@ Mesh body_with_handles(const HandleBodyOptions& o) {
             if (factor != 1) p = centre + q * std::max(factor, 0.3);
         }
     }
+    return mesh;
+}
+
+
+Mesh wheel(const WheelOptions& o) {
+    require(o.holes >= 0 && o.holes <= 64, "wheel: holes must be in 0..64, got " + std::to_string(o.holes));
+    require(o.resolution >= 2 && o.resolution <= 16,
+            "wheel: resolution must be in 2..16, got " + std::to_string(o.resolution));
+    require(o.smoothing >= 0 && o.smoothing <= 200, "wheel: smoothing must be in 0..200, got " + std::to_string(o.smoothing));
+    require(o.ribs >= 0 && o.ribs <= 64, "wheel: ribs must be in 0..64, got " + std::to_string(o.ribs));
+    // In cells (the disc is one cell thick): holes of radius 1.5 on a ring with 1.5 of material
+    // between neighbours, at least 6 from the axis; the axle hole of radius 1.25 in a hub of
+    // radius 2.75; the rim 2.5 outside the holes.
+    const double hole = 1.5, axle = 1.25, hub = 2.75;
+    const double ring = std::max(6.0, o.holes * (2 * hole + 1.5) / (2 * kPi));
+    const double outer = ring + hole + 2.5;
+    const int res = o.resolution;
+    const int n = static_cast<int>(std::ceil(2 * outer * res)) + 4;  // voxels across, with a margin
+    const std::int64_t estimate = 8LL * n * n + 24LL * n * res;
+    require(estimate <= kMaxTriangles, "wheel: the options give too large a mesh");
+    const double centre = 0.5 * n / res;
+    std::vector<Vec3> holes;
+    for (int k = 0; k < o.holes; ++k) {
+        const double a = 2 * kPi * (k + 0.5) / o.holes;
+        holes.push_back({centre + ring * std::cos(a), centre + ring * std::sin(a), 0});
+    }
+    // The three layers' masks at the voxel centres: the disc; the hub and the rim's lip one cell
+    // above it; the hub alone the next cell up.
+    std::vector<std::vector<char>> layer(3, std::vector<char>(static_cast<size_t>(n) * n, 0));
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            const double x = (i + 0.5) / res, y = (j + 0.5) / res;
+            const double r = std::hypot(x - centre, y - centre);
+            bool disc = r >= axle && r <= outer;
+            for (const Vec3& h : holes) disc = disc && std::hypot(x - h.x, y - h.y) > hole;
+            const size_t at = static_cast<size_t>(j) * n + i;
+            // Ribs: radial bars 0.75 cells wide from the hub towards the ring, between the holes.
+            bool rib = false;
+            for (int k = 0; k < o.ribs && !rib; ++k) {
+                const double a = 2 * kPi * k / o.ribs, along = (x - centre) * std::cos(a) + (y - centre) * std::sin(a);
+                const double across = -(x - centre) * std::sin(a) + (y - centre) * std::cos(a);
+                rib = along > 0 && r <= ring - hole - 0.5 && std::abs(across) <= 0.375;
+            }
+            layer[0][at] = disc;
+            layer[1][at] = disc && (r <= hub || r >= outer - 1 || rib);
+            layer[2][at] = disc && r <= hub;
+        }
+    // No two voxels of a layer may meet along an edge only (the solid would not be a manifold):
+    // in every 2 x 2 block whose solids are diagonal, one empty voxel is filled, in the disc a
+    // fixed one, above it one the layer below has, so every layer stays within the one below.
+    // Then no two voxels meet in an edge or a corner alone anywhere.
+    for (int l = 0; l < 3; ++l) {
+        std::vector<char>& m = layer[l];
+        auto at = [&](int i, int j) -> char& { return m[static_cast<size_t>(j) * n + i]; };
+        for (bool changed = true; changed;) {
+            changed = false;
+            for (int j = 0; j + 1 < n; ++j)
+                for (int i = 0; i + 1 < n; ++i) {
+                    const bool a = at(i, j), b = at(i + 1, j), c = at(i, j + 1), d = at(i + 1, j + 1);
+                    if (!((a && d && !b && !c) || (b && c && !a && !d))) continue;
+                    std::array<std::array<int, 2>, 2> empty = a ? std::array<std::array<int, 2>, 2>{{{i + 1, j}, {i, j + 1}}}
+                                                                : std::array<std::array<int, 2>, 2>{{{i, j}, {i + 1, j + 1}}};
+                    int pick = 0;
+                    if (l > 0 && !layer[l - 1][static_cast<size_t>(empty[0][1]) * n + empty[0][0]]) pick = 1;
+                    at(empty[pick][0], empty[pick][1]) = 1;
+                    changed = true;
+                }
+        }
+    }
+    auto solid = [&](int i, int j, int k) {
+        return i >= 0 && j >= 0 && k >= 0 && i < n && j < n && k < 3 * res &&
+               layer[k / res][static_cast<size_t>(j) * n + i] != 0;
+    };
+    Mesh mesh = voxel_boundary(n, n, 3 * res, res, solid);
+    taubin_smooth(&mesh, o.smoothing);
+    // The holes are wide against the voxels and every layer is well joined, so the genus is the
+    // axle's handle and one per hole.
+    const std::int64_t chi = std::int64_t{mesh.num_vertices()} - 3 * std::int64_t{mesh.num_triangles()} / 2 +
+                             mesh.num_triangles();
+    QC_CHECK(chi == 2 - 2 * (o.holes + 1), "wheel: the voxel solid does not have genus holes + 1");
     return mesh;
 }
 

@@ -194,6 +194,27 @@ TEST(CliInfo, GeneratedPlatesHaveTheirGenus) {
     }
 }
 
+// `generate wheel -g G`: the axle's hole and G - 1 holes round it, with or without ribs; a wheel
+// needs its axle, so genus 0 is refused, naming the option, and no file is written.
+TEST(CliInfo, GeneratedWheelsHaveTheirGenus) {
+    const fs::path dir = scratch_dir();
+    for (const std::string ribs : {"", " --ribs 8"})
+        for (int g : {1, 4}) {
+            const fs::path file = dir / ("wheel" + std::to_string(g) + ".obj");
+            const Outcome gen = quadcage("generate wheel -r 2 --genus " + std::to_string(g) + ribs + " -o '" +
+                                         file.string() + "'");
+            ASSERT_EQ(gen.code, 0) << gen.err;
+            const Outcome r = quadcage("info --json '" + file.string() + "'");
+            ASSERT_EQ(r.code, 0) << r.err;
+            EXPECT_EQ(nlohmann::json::parse(r.out)["components"][0]["genus"], g) << ribs;
+        }
+    const fs::path none = dir / "wheel0.obj";
+    const Outcome r = quadcage("generate wheel --genus 0 -o '" + none.string() + "'");
+    EXPECT_EQ(r.code, 3);
+    EXPECT_NE(r.err.find("--genus"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(none));
+}
+
 TEST(CliUsage, BadUsageExitsTwo) {
     EXPECT_EQ(quadcage("").code, 2);
     EXPECT_EQ(quadcage("frobnicate").code, 2);

@@ -161,6 +161,24 @@ INSTANTIATE_TEST_SUITE_P(Handles, QuadLayoutHandles,
                          ::testing::Values(std::make_tuple(1, false), std::make_tuple(2, false), std::make_tuple(3, true),
                                            std::make_tuple(4, true)));
 
+// input_wheel's class: holes in a ring round an axle through a hub (with ribs round it, as
+// input_wheel's fins). A minimal layout exists, verifies and stays within the refinement bound.
+// (Its balance is measured by tools/bench/layout_classes.sh.)
+class QuadLayoutWheel : public ::testing::TestWithParam<std::tuple<int, int>> {};
+
+TEST_P(QuadLayoutWheel, HolesInARingRoundAHubGetAMinimalLayout) {
+    shapes::WheelOptions o;
+    o.holes = std::get<0>(GetParam());
+    o.ribs = std::get<1>(GetParam());
+    o.resolution = 2;
+    const Mesh input = shapes::wheel(o);
+    const QuadLayout L = build_quad_layout(input);
+    expect_valid_layout(L, input, o.holes + 1);
+    EXPECT_LE(L.mesh.num_vertices() - L.input_vertices, vertices_added_bound(L.input_vertices, L.cage.num_corners()));
+}
+INSTANTIATE_TEST_SUITE_P(Wheels, QuadLayoutWheel,
+                         ::testing::Values(std::make_tuple(0, 0), std::make_tuple(3, 0), std::make_tuple(5, 8)));
+
 // Room for the curves is made by splitting edges, and must stay within vertices_added_bound()
 // (issue #20). When a failed search split every chord round it, and the patch maps every chord
 // between layout curves, each new curve hugged the room made for the last: a plate of genus 8

@@ -6,7 +6,9 @@
 #   - long protrusions: `generate limbs` (genus 0, a cube over a figure with limbs);
 #   - a big smooth body with a few small handles: `generate handles -g G`; with relief of its own
 #     (a figure's body with one small handle): `generate handles -g 1 --bumps 12`;
-#   - genus concentrated in one region: `generate handles -g G --in-a-row`.
+#   - genus concentrated in one region: `generate handles -g G --in-a-row`;
+#   - holes in a ring round a central handle, input_wheel's class: `generate wheel -g G`, with ribs
+#     round the hub (input_wheel's fins): `--ribs 16`.
 # Fit level 3, level 4 for genus 0 and 1 (6- and 4-quad cages). Issue 20's targets on every row:
 # area max/min <= 4, fit RMS <= 1e-3 and Hausdorff <= 1e-2. The script reports; it asserts nothing.
 #   tools/bench/layout_classes.sh [BUILD_DIR]
@@ -28,6 +30,9 @@ cases=(
   "handles g3|handles -g 3 -r 3"
   "handles g3 in a row|handles -g 3 -r 3 --in-a-row"
   "handles g5 in a row|handles -g 5 -r 3 --in-a-row"
+  "wheel g7|wheel -g 7 -r 3"
+  "wheel g11|wheel -g 11 -r 3"
+  "wheel g11 ribs|wheel -g 11 -r 3 --ribs 16"
 )
 printf '| shape | triangles | genus | quads | level | area max/min | angle dev. mean (deg) | check_layout | RMS | Hausdorff | check_fit RMS / Hausdorff | layout s | fit s |\n'
 printf '|---|---:|---:|---:|---:|---:|---:|---|---:|---:|---|---:|---:|\n'

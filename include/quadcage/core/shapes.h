@@ -115,4 +115,24 @@ struct HandleBodyOptions {
 /// \throw InvalidInput if the options are out of range or the mesh would pass 1e8 triangles.
 Mesh body_with_handles(const HandleBodyOptions& options = {});
 
+/// Options for wheel().
+struct WheelOptions {
+    int holes = 6;        ///< Holes in a ring round the axle, 0..64: the genus is holes + 1.
+    int resolution = 3;   ///< Voxels per cell (a cell is the disc's thickness), 2..16.
+    int smoothing = 12;   ///< Taubin smoothing passes that round the voxels, 0..200.
+    int ribs = 0;         ///< Radial ribs one cell high from the hub towards the holes, 0..64.
+};
+
+/// A wheel, the shape class of input_wheel (issue 20): a disc one cell thick with an axle hole
+/// through a hub that stands two cells proud on one side, `holes` round holes on a ring between the
+/// hub and the rim, a lip one cell high round the rim on the hub's side, and optionally `ribs`
+/// radial ribs one cell high from the hub towards the ring (input_wheel's fins). Its genus, holes +
+/// 1, lies round a ring with one handle in the middle; input_wheel's minimal layout crowds its
+/// curves round the hub. Hole radius 1.5 cells, 1.5 cells of material between two, the ring at
+/// least 6 cells from the axis (further for many holes), the rim 2.5 cells outside it. Voxelised at
+/// `resolution` voxels a cell (no two voxels meet in an edge or a corner alone) and smoothed.
+/// Closed, manifold, deterministic.
+/// \throw InvalidInput if the options are out of range or the mesh would pass 1e8 triangles.
+Mesh wheel(const WheelOptions& options = {});
+
 }  // namespace quadcage::shapes
