@@ -449,7 +449,6 @@ Mesh body_with_handles(const HandleBodyOptions& o) {
     return mesh;
 }
 
-
 Mesh wheel(const WheelOptions& o) {
     require(o.holes >= 0 && o.holes <= 64, "wheel: holes must be in 0..64, got " + std::to_string(o.holes));
     require(o.resolution >= 2 && o.resolution <= 16,
@@ -482,7 +481,7 @@ Mesh wheel(const WheelOptions& o) {
             bool disc = r >= axle && r <= outer;
             for (const Vec3& h : holes) disc = disc && std::hypot(x - h.x, y - h.y) > hole;
             const size_t at = static_cast<size_t>(j) * n + i;
-            // Ribs: radial bars 0.75 cells wide from the hub towards the ring, between the holes.
+            // Ribs: radial bars 0.75 cells wide from the hub to half a cell short of the holes.
             bool rib = false;
             for (int k = 0; k < o.ribs && !rib; ++k) {
                 const double a = 2 * kPi * k / o.ribs, along = (x - centre) * std::cos(a) + (y - centre) * std::sin(a);

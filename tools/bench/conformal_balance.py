@@ -21,10 +21,10 @@ corners stand from where an angle-preserving layout would want them, so that the
 come from stretching the patches.
 
 With --greedy it also places the same number of cones of the same curvature on the surface alone,
-one at a time where u is largest (Ben-Chen et al.'s heuristic: a negative cone lowers u most where
-it stands), ignoring which places a layout can put them in, and prints the spread of u both ways as
-exp(2 (q98 - q02)), the 98th over the 2nd area-weighted percentile of the local scale: a rough figure
-for what placing the cones elsewhere could give (greedy, so not a bound either way). u falls off
+one at a time where u is largest (smallest for a positive cone; Ben-Chen et al.'s heuristic: a
+negative cone lowers u most where it stands), ignoring which places a layout can put them in, and
+prints the spread of u both ways as exp(2 (q98 - q02)), the 98th over the 2nd area-weighted
+percentile of the local scale: a rough figure for what placing the cones elsewhere could give (greedy, so not a bound either way). u falls off
 like a logarithm at a cone, so the spread depends on how fine the mesh is round the cones: compare
 it between placements on one mesh, not between meshes.
 
@@ -127,7 +127,8 @@ def main():
     print(f'  conformal area ratio at these corners (max/min of S_p/F_p): {density.max() / density.min():.3g}')
     print(f'  scale spread exp(2 (q98 - q02)) at these corners: {spread(u, vertex_area):.3g}')
     if args.greedy:
-        # As many cones of each curvature, placed one at a time where u is largest.
+        # As many cones of each curvature, placed one at a time where u is largest (a negative
+        # cone) or smallest (a positive one: a sphere's cube corners).
         placed = np.zeros(n)
         curvatures = sorted(cone[corners])
         for kappa in curvatures:
