@@ -11,7 +11,7 @@
 #                 default: one variant, 'default=' (no flags)
 #     MESH...     default: the nine shared meshes of genus >= 1 and generated shapes of issue 20's
 #                 failure classes (a big body with 1 small handle, plain and with bumps, and with
-#                 3; 4 handles in a row; a figure with 5 limbs)
+#                 3; 4 handles in a row; a figure with 5 limbs; a wheel of genus 7)
 # Timings are the machine's at the time: run it idle for figures worth quoting.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
@@ -39,10 +39,12 @@ if [ ${#list[@]} -eq 0 ]; then
   "$qc" generate handles -g 3 -o "$work/handles3.ply" >/dev/null
   "$qc" generate handles -g 4 --in-a-row -o "$work/handles4row.ply" >/dev/null
   "$qc" generate limbs --limbs 5 -o "$work/limbs5.ply" >/dev/null
+  "$qc" generate wheel -g 7 -r 3 -o "$work/wheel7.ply" >/dev/null
   for m in eight torus kitten 3holes fertility skull botijo boot input_wheel; do
     list+=("$(ls "$shared/data/meshes/$m".* | head -1)")
   done
-  list+=("$work/handles1.ply" "$work/handles1bumps.ply" "$work/handles3.ply" "$work/handles4row.ply" "$work/limbs5.ply")
+  list+=("$work/handles1.ply" "$work/handles1bumps.ply" "$work/handles3.ply" "$work/handles4row.ply" "$work/limbs5.ply"
+         "$work/wheel7.ply")
 fi
 printf '| mesh | genus | level | variant | kept | area max/min | angle dev. (deg) | check_layout | RMS | Hausdorff | targets | layout s | fit s |\n'
 printf '|---|---:|---:|---|---|---:|---:|---|---:|---:|---|---:|---:|\n'
