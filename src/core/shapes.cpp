@@ -453,7 +453,8 @@ Mesh wheel(const WheelOptions& o) {
     require(o.holes >= 0 && o.holes <= 64, "wheel: holes must be in 0..64, got " + std::to_string(o.holes));
     require(o.resolution >= 2 && o.resolution <= 16,
             "wheel: resolution must be in 2..16, got " + std::to_string(o.resolution));
-    require(o.smoothing >= 0 && o.smoothing <= 200, "wheel: smoothing must be in 0..200, got " + std::to_string(o.smoothing));
+    require(o.smoothing >= 0 && o.smoothing <= 200,
+            "wheel: smoothing must be in 0..200, got " + std::to_string(o.smoothing));
     require(o.ribs >= 0 && o.ribs <= 64, "wheel: ribs must be in 0..64, got " + std::to_string(o.ribs));
     // In cells (the disc is one cell thick): holes of radius 1.5 on a ring with 1.5 of material
     // between neighbours, at least 6 from the axis; the axle hole of radius 1.25 in a hub of
@@ -484,7 +485,8 @@ Mesh wheel(const WheelOptions& o) {
             // Ribs: radial bars 0.75 cells wide from the hub to half a cell short of the holes.
             bool rib = false;
             for (int k = 0; k < o.ribs && !rib; ++k) {
-                const double a = 2 * kPi * k / o.ribs, along = (x - centre) * std::cos(a) + (y - centre) * std::sin(a);
+                const double a = 2 * kPi * k / o.ribs;
+                const double along = (x - centre) * std::cos(a) + (y - centre) * std::sin(a);
                 const double across = -(x - centre) * std::sin(a) + (y - centre) * std::cos(a);
                 rib = along > 0 && r <= ring - hole - 0.5 && std::abs(across) <= 0.375;
             }
@@ -505,11 +507,11 @@ Mesh wheel(const WheelOptions& o) {
                 for (int i = 0; i + 1 < n; ++i) {
                     const bool a = at(i, j), b = at(i + 1, j), c = at(i, j + 1), d = at(i + 1, j + 1);
                     if (!((a && d && !b && !c) || (b && c && !a && !d))) continue;
-                    std::array<std::array<int, 2>, 2> empty = a ? std::array<std::array<int, 2>, 2>{{{i + 1, j}, {i, j + 1}}}
-                                                                : std::array<std::array<int, 2>, 2>{{{i, j}, {i + 1, j + 1}}};
-                    int pick = 0;
-                    if (l > 0 && !layer[l - 1][static_cast<size_t>(empty[0][1]) * n + empty[0][0]]) pick = 1;
-                    at(empty[pick][0], empty[pick][1]) = 1;
+                    // The block's two empty voxels: b and c when a and d are solid, else a and d.
+                    const int first_i = a ? i + 1 : i, second_i = a ? i : i + 1;
+                    const bool first = l == 0 || layer[l - 1][static_cast<size_t>(j) * n + first_i];
+                    if (first) at(first_i, j) = 1;
+                    else at(second_i, j + 1) = 1;
                     changed = true;
                 }
         }
