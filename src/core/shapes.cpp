@@ -26,6 +26,12 @@ void require(bool ok, const std::string& what) {
     if (!ok) throw InvalidInput(what);
 }
 
+// require() for an integer option: "<where>: <name> must be in lo..hi, got <value>".
+void require_in(int value, int lo, int hi, const std::string& where, const std::string& name) {
+    require(value >= lo && value <= hi, where + ": " + name + " must be in " + std::to_string(lo) + ".." +
+                                            std::to_string(hi) + ", got " + std::to_string(value));
+}
+
 Vec3 normalized(const Vec3& v) { return v / norm(v); }
 
 // ---------------------------------------------------------------------------------------------
@@ -181,8 +187,7 @@ Mesh voxel_boundary(int nx, int ny, int nz, int res, const Solid& solid) {
 }  // namespace
 
 Mesh icosphere(int subdivisions, double radius) {
-    require(subdivisions >= 0 && subdivisions <= 10,
-            "icosphere: subdivisions must be in 0..10, got " + std::to_string(subdivisions));
+    require_in(subdivisions, 0, 10, "icosphere", "subdivisions");
     require(std::isfinite(radius) && radius > 0,
             "icosphere: radius must be positive and finite, got " + std::to_string(radius));
 
@@ -324,9 +329,8 @@ Mesh plate_with_holes(int genus, const PlateOptions& options) {
 }
 
 Mesh body_with_limbs(const LimbOptions& o) {
-    require(o.limbs >= 0 && o.limbs <= 32, "body_with_limbs: limbs must be in 0..32, got " + std::to_string(o.limbs));
-    require(o.subdivisions >= 1 && o.subdivisions <= 8,
-            "body_with_limbs: subdivisions must be in 1..8, got " + std::to_string(o.subdivisions));
+    require_in(o.limbs, 0, 32, "body_with_limbs", "limbs");
+    require_in(o.subdivisions, 1, 8, "body_with_limbs", "subdivisions");
     require(std::isfinite(o.max_length) && o.max_length > 0, "body_with_limbs: max_length must be positive and finite");
     std::mt19937 rng(o.seed);
     // Uniform and normal numbers from the engine's raw output (its sequence is fixed by the
@@ -357,15 +361,11 @@ Mesh body_with_limbs(const LimbOptions& o) {
 }
 
 Mesh body_with_handles(const HandleBodyOptions& o) {
-    require(o.handles >= 0 && o.handles <= 64, "body_with_handles: handles must be in 0..64, got " + std::to_string(o.handles));
-    require(o.body_cells >= 4 && o.body_cells <= 64,
-            "body_with_handles: body_cells must be in 4..64, got " + std::to_string(o.body_cells));
-    require(o.resolution >= 2 && o.resolution <= 16,
-            "body_with_handles: resolution must be in 2..16, got " + std::to_string(o.resolution));
-    require(o.smoothing >= 0 && o.smoothing <= 200,
-            "body_with_handles: smoothing must be in 0..200, got " + std::to_string(o.smoothing));
-    require(o.bumps >= 0 && o.bumps <= 64,
-            "body_with_handles: bumps must be in 0..64, got " + std::to_string(o.bumps));
+    require_in(o.handles, 0, 64, "body_with_handles", "handles");
+    require_in(o.body_cells, 4, 64, "body_with_handles", "body_cells");
+    require_in(o.resolution, 2, 16, "body_with_handles", "resolution");
+    require_in(o.smoothing, 0, 200, "body_with_handles", "smoothing");
+    require_in(o.bumps, 0, 64, "body_with_handles", "bumps");
     // Handle slots on the top face (z = body, in cells): posts at (x, y) and (x + 2, y), the bar
     // over x..x+2 one cell higher. Spread: a grid of columns 4 cells apart and rows 2 apart, in
     // the middle of the face; in a row: side by side along y at x = 1, 2 cells apart.
@@ -450,12 +450,10 @@ Mesh body_with_handles(const HandleBodyOptions& o) {
 }
 
 Mesh wheel(const WheelOptions& o) {
-    require(o.holes >= 0 && o.holes <= 64, "wheel: holes must be in 0..64, got " + std::to_string(o.holes));
-    require(o.resolution >= 2 && o.resolution <= 16,
-            "wheel: resolution must be in 2..16, got " + std::to_string(o.resolution));
-    require(o.smoothing >= 0 && o.smoothing <= 200,
-            "wheel: smoothing must be in 0..200, got " + std::to_string(o.smoothing));
-    require(o.ribs >= 0 && o.ribs <= 64, "wheel: ribs must be in 0..64, got " + std::to_string(o.ribs));
+    require_in(o.holes, 0, 64, "wheel", "holes");
+    require_in(o.resolution, 2, 16, "wheel", "resolution");
+    require_in(o.smoothing, 0, 200, "wheel", "smoothing");
+    require_in(o.ribs, 0, 64, "wheel", "ribs");
     // In cells (the disc is one cell thick): holes of radius 1.5 on a ring with 1.5 of material
     // between neighbours, at least 6 from the axis; the axle hole of radius 1.25 in a hub of
     // radius 2.75; the rim 2.5 outside the holes.
