@@ -169,6 +169,7 @@ void apply(const EmbeddingFlags& flags, layout::QuadLayoutOptions* options) {
     options->embedding_conformal_weight = flags.conformal_weight;
     options->embedding_cone_sweeps = flags.cone_sweeps;
     options->smooth_edges = !flags.staircase_edges;
+    options->s_cycles_from_necks = !flags.no_necks;
     options->edge_embedding_iterations = flags.edge_embedding;
     options->edge_embedding_max_vertices = flags.edge_embedding_max_vertices;
 }
@@ -196,6 +197,7 @@ std::vector<std::string> embedding_arguments(const EmbeddingFlags& flags) {
     if (flags.cone_sweeps != defaults.cone_sweeps)
         args.insert(args.end(), {"--embedding-cone-sweeps", std::to_string(flags.cone_sweeps)});
     if (flags.staircase_edges) args.push_back("--staircase-edges");
+    if (flags.no_necks) args.push_back("--no-necks");
     if (flags.edge_embedding != defaults.edge_embedding)
         args.insert(args.end(), {"--edge-embedding", std::to_string(flags.edge_embedding)});
     if (flags.edge_embedding_max_vertices != defaults.edge_embedding_max_vertices)

@@ -36,6 +36,7 @@ struct EmbeddingFlags {
     double conformal_weight = 0;
     int cone_sweeps = 0;
     bool staircase_edges = false;  ///< --staircase-edges: the layout edges not smoothed
+    bool no_necks = false;         ///< --no-necks: the S-cycles from the handle loops, not the necks
     /// --edge-embedding N: Newton iterations of the global edge embedding (0: off)
     int edge_embedding = quadcage::layout::QuadLayoutOptions{}.edge_embedding_iterations;
     /// --edge-embedding-max-vertices N: above this many layout-mesh vertices it is skipped

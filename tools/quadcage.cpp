@@ -52,6 +52,12 @@ std::vector<CLI::Option*> add_embedding_flags(CLI::App* cmd, quadcage::cli::Embe
                "while that lowers the optimised energy")
             ->check(CLI::NonNegativeNumber));
     all.push_back(cmd->add_flag(
+        "--no-necks", flags.no_necks,
+        "Do not build the layout with S-cycles round the surface's necks (by default, genus 2-12: the\n"
+        "shortest loops that cut it into pairs of pants, joined in pairs into T-shirts; that layout\n"
+        "is kept when both its patch area max/min and corner angle deviation are smaller; see the\n"
+        "README). Saves its time"));
+    all.push_back(cmd->add_flag(
         "--staircase-edges", flags.staircase_edges,
         "Leave the layout edges along mesh edges as the construction routed them, zigzagging across\n"
         "the triangles. By default each is smoothed: an iso-line of the patch maps made harmonic in a\n"

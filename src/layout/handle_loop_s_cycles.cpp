@@ -753,13 +753,14 @@ std::optional<BodyCut> cut_body(Builder w, std::vector<int> ids, int g, double u
 
 }  // namespace
 
-std::optional<std::vector<int>> tube_s_cycles(Builder& b, const std::vector<int>& loops, int g, const Say& say) {
-    Builder w = b;
-    const double unit = surface_area(w.s_.mesh()) / (10.0 * g - 10);  // one quad's share
-    std::vector<int> ids;
-    std::vector<std::array<int, 2>> ends(g);
-    for (int i = 0; i < g; ++i) {
-        say("handle annulus " + std::to_string(i + 1) + " of " + std::to_string(g) + surface_size(w));
+// The annuli round `loops`: two S-cycles parallel to each, added to w and to *ids. False if one
+// does not fit.
+bool tube_loops(Builder& w, const std::vector<int>& loops, double unit, std::vector<int>* out_ids, const Say& say) {
+    std::vector<int>& ids = *out_ids;
+    const int count = static_cast<int>(loops.size());
+    std::vector<std::array<int, 2>> ends(count);
+    for (int i = 0; i < count; ++i) {
+        say("handle annulus " + std::to_string(i + 1) + " of " + std::to_string(count) + surface_size(w));
         const double len = cycle_length(w.s_.mesh(), w.curves_[loops[i]]);
         const double width0 = std::min(unit / len, 0.25 * len);
         double width = width0;
@@ -800,8 +801,16 @@ std::optional<std::vector<int>> tube_s_cycles(Builder& b, const std::vector<int>
                 ok = true;
             }
         }
-        if (!ok) return std::nullopt;
+        if (!ok) return false;
     }
+    return true;
+}
+
+std::optional<std::vector<int>> tube_s_cycles(Builder& b, const std::vector<int>& loops, int g, const Say& say) {
+    Builder w = b;
+    const double unit = surface_area(w.s_.mesh()) / (10.0 * g - 10);  // one quad's share
+    std::vector<int> ids;
+    if (!tube_loops(w, loops, unit, &ids, say)) return std::nullopt;
     int tree_failed_at = -1;
     std::optional<BodyCut> cut = cut_body(w, ids, g, unit, true, &tree_failed_at, say);
     if (!cut && tree_failed_at >= 0) {

@@ -89,12 +89,14 @@ Cycles build_cycles(const Mesh& input, const QuadLayoutOptions& options) {
     return c;
 }
 
-// The layout over `cycles` with the S-cycles from the handle loops (falling back to Algorithm 1's
-// where they cannot be placed; *from_handle_loops says which were used) or Algorithm 1's, before
-// the embedding stage, with its quality measured. With max_vertices > 0 the layout curves may
-// refine the surface up to that many vertices; past it the layout is abandoned (OverBudget).
+// The layout over `cycles` with the S-cycles round the necks (`necks`, falling back to the handle
+// loops'), from the handle loops (falling back to Algorithm 1's where they cannot be placed;
+// *from_handle_loops and *at_necks say which were used) or Algorithm 1's, before the embedding
+// stage, with its quality measured. With max_vertices > 0 the layout curves may refine the surface
+// up to that many vertices; past it the layout is abandoned (OverBudget).
 QuadLayout build_variant(const Mesh& input, const Cycles& cycles, const QuadLayoutOptions& options,
-                         bool handle_loops, long long max_vertices, const Say& say, bool* from_handle_loops) {
+                         bool handle_loops, bool necks, long long max_vertices, const Say& say,
+                         bool* from_handle_loops, bool* at_necks = nullptr) {
     auto clock = [start = std::chrono::steady_clock::now()]() {
         return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     };
@@ -120,12 +122,13 @@ QuadLayout build_variant(const Mesh& input, const Cycles& cycles, const QuadLayo
         try {
             Network net;
             if (g >= 2)
-                net = network_of_handles_and_tshirts(b, g, loops, handle_loops, say);
+                net = network_of_handles_and_tshirts(b, g, loops, handle_loops, necks, say);
             else if (g == 1)
                 net = network_of_torus(b, say);
             else
                 net = network_of_cube(b, say);
             *from_handle_loops = net.s_cycles_from_handle_loops;
+            if (at_necks) *at_necks = net.s_cycles_at_necks;
             say("patches");
             detail::tighten_layout_curves(b, net, g);
             b.split_dividing_chords(detail::layout_edge_paths(b, net));
@@ -149,6 +152,8 @@ QuadLayout build_variant(const Mesh& input, const Cycles& cycles, const QuadLayo
                            checked};
             return out;
         } catch (const OverBudget&) {
+            throw;
+        } catch (const detail::NoNecks&) {
             throw;
         } catch (const InternalError& e) {
             failure = e.what();
@@ -211,7 +216,7 @@ QuadLayout layout_of_better_s_cycles(const Mesh& input, const Cycles& cycles,
             };
             try {
                 bool unused = false;
-                sp->layout = build_variant(input, cycles, options, false, sp->max_vertices, held, &unused);
+                sp->layout = build_variant(input, cycles, options, false, false, sp->max_vertices, held, &unused);
             } catch (const Speculation::Cancelled&) {
             } catch (...) {
                 sp->error = std::current_exception();
@@ -221,7 +226,7 @@ QuadLayout layout_of_better_s_cycles(const Mesh& input, const Cycles& cycles,
     bool from_handle_loops = false;
     QuadLayout out = [&] {
         try {
-            return build_variant(input, cycles, options, options.s_cycles_from_handle_loops, 0, say,
+            return build_variant(input, cycles, options, options.s_cycles_from_handle_loops, false, 0, say,
                                  &from_handle_loops);
         } catch (...) {
             if (other) other->stop();
@@ -279,6 +284,41 @@ QuadLayout layout_of_better_s_cycles(const Mesh& input, const Cycles& cycles,
         // Built side by side: the layout not kept adds the wall time past the kept one's, not its
         // own duration (time spent on the layout curves).
         out.seconds.curves += std::max(0.0, since(after_cycles) - seconds_after_cycles(out.seconds));
+    }
+    if (compare && options.s_cycles_from_necks) {
+        // The S-cycles round the necks, kept when better on both counts than the layout kept so
+        // far, as Algorithm 1's are. Against the handle loops' alone they would win on a wheel
+        // (generate wheel -g 7: level-3 check_fit.py 3.7e-4 / 4.6e-3 against 1.4e-3 / 1.9e-2), on
+        // botijo and boot, but lose on a big body with small handles (generate handles -g 3 -r 2:
+        // 9.8e-4 / 2.3e-2 against Algorithm 1's 3.4e-4 / 4.8e-3), where their patch area max/min
+        // and corner angles tie with Algorithm 1's (35.9 and 36.9 deg against 36.1 and 35.7).
+        const auto start = std::chrono::steady_clock::now();
+        const Say prefixed = [&say](const std::string& m) { say("S-cycles at the necks: " + m); };
+        try {
+            bool unused = false, at_necks = false;
+            QuadLayout necks = build_variant(input, cycles, options, true, true, out.input_vertices + bound,
+                                             prefixed, &unused, &at_necks);
+            const LayoutQuality &a = out.quality, &b = necks.quality;
+            const bool better = at_necks && b.patch_area_max_over_min < a.patch_area_max_over_min &&
+                                b.corner_angle_mean_deviation_deg < a.corner_angle_mean_deviation_deg;
+            char line[300];
+            std::snprintf(line, sizeof line,
+                          "S-cycles: patch area max/min %.3g and corner angle deviation %.1f deg so far, %.3g "
+                          "and %.1f deg at the necks; keeping %s",
+                          a.patch_area_max_over_min, a.corner_angle_mean_deviation_deg, b.patch_area_max_over_min,
+                          b.corner_angle_mean_deviation_deg, better ? "the necks'" : "the ones so far");
+            if (at_necks) say(line);
+            if (better) {
+                const double spent = out.seconds.curves + out.seconds.parameterization + out.seconds.verification;
+                out = std::move(necks);
+                out.seconds.curves += spent;  // the layouts not kept, built before it
+            } else {
+                out.seconds.curves += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+            }
+        } catch (const InternalError& e) {  // OverBudget too: past the bound
+            say(std::string("S-cycles: keeping the ones so far (at the necks: ") + e.what() + ")");
+            out.seconds.curves += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        }
     }
     return out;
 }

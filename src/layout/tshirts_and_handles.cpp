@@ -275,17 +275,24 @@ void route_handle(Builder& b, const std::vector<int>& s_ids, const Hole& A, cons
 }  // namespace
 
 Network network_of_handles_and_tshirts(Builder& b, int g, const std::vector<int>& handle_loops,
-                                        bool from_handle_loops, const Say& say) {
+                                        bool from_handle_loops, bool necks, const Say& say) {
     Network net;
     std::optional<std::vector<int>> tubes;
+    bool at_necks = false;
     if (from_handle_loops) {
         for (int i = 0; i < 2 * g; ++i) b.obstacle_[i] = 0;
-        tubes = tube_s_cycles(b, handle_loops, g, say);
+        if (necks) {
+            tubes = neck_s_cycles(b, g, say);
+            if (!tubes) throw NoNecks("no pants decomposition at the necks pairs into T-shirts");
+            at_necks = true;
+        }
+        if (!tubes) tubes = tube_s_cycles(b, handle_loops, g, say);
         if (!tubes) say("the handle loops gave no S-cycles; Algorithm 1's instead");
         for (int i = 0; i < 2 * g; ++i) b.obstacle_[i] = 1;
     }
     net.s_cycles = tubes ? *tubes : place_s_cycles(b, g, say);
     net.s_cycles_from_handle_loops = tubes.has_value();
+    net.s_cycles_at_necks = at_necks;
     // From here on the orthogonal system is scaffolding: layout curves may cross it.
     for (int i = 0; i < 2 * g; ++i) b.obstacle_[i] = 0;
     const Pieces pieces = find_pieces(b, net.s_cycles, g);

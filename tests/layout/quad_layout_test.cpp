@@ -512,6 +512,34 @@ TEST(QuadLayoutSCycleChoice, AlgorithmOnesAreNotTriedPastTheRefinementBound) {
     EXPECT_EQ(L.triangle_patch, from_loops.triangle_patch);
 }
 
+// A wheel (input_wheel's class, `generate wheel -g 7 -r 3`): the handle loops' body annuli wind
+// round the ring of holes in bundles; the S-cycles round the necks are kept instead, better on
+// both counts, and the layout verifies. Without s_cycles_from_necks they are not built.
+TEST(QuadLayoutSCycleChoice, AWheelKeepsTheSCyclesAtItsNecks) {
+    shapes::WheelOptions wo;
+    wo.holes = 6;
+    wo.resolution = 3;
+    const Mesh input = shapes::wheel(wo);
+    layout::QuadLayoutOptions o;
+    EXPECT_TRUE(o.s_cycles_from_necks);  // the default
+    std::vector<std::string> said;
+    o.progress = [&said](const std::string& m) { said.push_back(m); };
+    const QuadLayout L = build_quad_layout(input, o);
+    expect_valid_layout(L, input, 7);
+    EXPECT_TRUE(says(said, "keeping the necks'"));
+    layout::QuadLayoutOptions off;
+    off.s_cycles_from_necks = false;
+    std::vector<std::string> said_off;
+    off.progress = [&said_off](const std::string& m) { said_off.push_back(m); };
+    const QuadLayout without = build_quad_layout(input, off);
+    expect_valid_layout(without, input, 7);
+    EXPECT_FALSE(says(said_off, "at the necks"));
+    std::cout << "  wheel: patch area max/min " << without.quality.patch_area_max_over_min << " -> "
+              << L.quality.patch_area_max_over_min << ", corner angle deviation "
+              << without.quality.corner_angle_mean_deviation_deg << " -> "
+              << L.quality.corner_angle_mean_deviation_deg << " deg\n";
+}
+
 // Plates of genus 9 and more: the handle annuli or the body annuli of the handle-loop S-cycles
 // found no room between close holes, and Algorithm 1's S-cycles took over; they wind round the
 // plate side by side, each T-shirt ring then squeezed along corridors between them and the mesh

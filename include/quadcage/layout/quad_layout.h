@@ -27,6 +27,14 @@ struct QuadLayoutOptions {
     /// fertility RMS 1.9e-3 -> 2.4e-4, Hausdorff 2.6e-2 -> 4.0e-3; botijo RMS 1.55e-3 -> 1.43e-3 but
     /// Hausdorff 2.6e-2 -> 3.6e-2. The README has the current figures.
     bool s_cycles_from_handle_loops = true;
+    /// With s_cycles_compare, genus 2..12: also build the layout with S-cycles round loops at the
+    /// surface's necks (neck_s_cycles.cpp): a pants decomposition of short loops, taken shortest
+    /// first, whose pairs of pants join into T-shirts along the perfect matching that drops the
+    /// longest loops; an annulus round each loop kept. Kept, as Algorithm 1's are, if both its
+    /// patch area max/min and its corner angle deviation are smaller than the layout kept so far,
+    /// and within vertices_added_bound(). The handle loops' body cut winds long S-cycles round a
+    /// ring of holes (a wheel's, input_wheel's); these stay short. The README has the figures.
+    bool s_cycles_from_necks = true;
     /// With s_cycles_from_handle_loops, where the handle loops gave the S-cycles: build the layout
     /// with Algorithm 1's S-cycles too (unless the first layout is past vertices_added_bound();
     /// abandoned once it refines past it) and keep it if both its patch area max/min and its

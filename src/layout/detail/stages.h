@@ -41,6 +41,7 @@ struct Network {
     std::vector<int> arcs;                                 // open curves from a corner to a corner
     std::vector<int> s_cycles;                             // Algorithm 1's S_i (g >= 2)
     bool s_cycles_from_handle_loops = false;               // else Algorithm 1's (g >= 2)
+    bool s_cycles_at_necks = false;                        // from the handle loops: round the necks
 };
 
 /// One side of a closed curve that bounds a piece: the curve and which side faces the piece.
@@ -145,6 +146,19 @@ std::vector<int> place_s_cycles(Builder& b, int g, const Say& say);
 /// body side by side in stacks.
 /// Returns the S-cycles' curve ids, or nothing if some curve cannot be placed (b is then unchanged).
 std::optional<std::vector<int>> tube_s_cycles(Builder& b, const std::vector<int>& loops, int g, const Say& say);
+/// The annuli round closed curves `loops`: two S-cycles parallel to each, added to w and to *ids.
+/// False if one does not fit. `unit`: one quad's share of the area (the annuli's width).
+bool tube_loops(Builder& w, const std::vector<int>& loops, double unit, std::vector<int>* ids, const Say& say);
+/// The loops to drop so that `pants` pairs of pants join in pairs into T-shirts: a perfect matching
+/// of the pants graph (a node per pair of pants, an edge per loop: ends[e], a loop with both sides
+/// on one pair of pants cannot be dropped) of the greatest total length, so that the loops kept are
+/// the shortest possible. Per loop, 1 if dropped. Exact (over subsets of the pants, at most 22).
+/// Empty if there is no perfect matching.
+std::optional<std::vector<char>> pants_matching(const std::vector<std::array<int, 2>>& ends,
+                                                const std::vector<double>& lengths, int pants);
+/// S-cycles round the 2g - 2 shortest loops of a pants decomposition that pair into T-shirts
+/// (neck_s_cycles.cpp); b gets them. Empty (b unchanged) where none is found.
+std::optional<std::vector<int>> neck_s_cycles(Builder& b, int g, const Say& say);
 
 /// The chain of T-shirts over a body's holes (gap[i][j]: the distance in the body from hole i to
 /// hole j; at most 64 holes): g-1 groups of holes, 3, 2, ..., 2, 3, in the order the T-shirts
@@ -193,9 +207,18 @@ std::optional<std::vector<int>> route_ring(Builder& b, const std::vector<int>& s
                                            bool face_right, double* length,
                                            int max_vertices = std::numeric_limits<int>::max());
 
-/// Genus >= 2: Algorithm 1, then handles (2 quads) and T-shirts (6 quads).
+/// Thrown by network_of_handles_and_tshirts() when the S-cycles at the necks were asked for and
+/// none were found: that layout is abandoned, not retried.
+class NoNecks : public InternalError {
+public:
+    using InternalError::InternalError;
+};
+
+/// Genus >= 2: the S-cycles (with from_handle_loops: round the necks if `necks`, else from the
+/// handle loops, Algorithm 1's where those fail; without it Algorithm 1's), then handles (2 quads)
+/// and T-shirts (6 quads). \throw NoNecks where `necks` and none are found.
 Network network_of_handles_and_tshirts(Builder& b, int g, const std::vector<int>& handle_loops,
-                                        bool from_handle_loops, const Say& say);
+                                        bool from_handle_loops, bool necks, const Say& say);
 
 // ---- The network: from its curves to a verified layout (network.cpp)
 

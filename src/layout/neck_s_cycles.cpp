@@ -1,0 +1,420 @@
+// S-cycles at the surface's necks (QuadLayoutOptions::s_cycles_from_necks): a pants decomposition
+// of short loops, taken shortest first; pairs of pants joined into T-shirts along a perfect
+// matching of its graph; an annulus round each loop left.
+
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <cstdio>
+#include <functional>
+#include <optional>
+#include <string>
+#include <unordered_set>
+#include <utility>
+#include <vector>
+
+#include "detail/curves.h"
+#include "detail/patches.h"
+#include "detail/stages.h"
+#include "detail/surface.h"
+#include "quadcage/core/errors.h"
+
+namespace quadcage::layout::detail {
+
+namespace {
+
+// Candidates per hole: loops near its kNearHoles nearest holes; kSamples points of each path the
+// loops cross. kMaxMatchedPants: the matching is exact over subsets of the pants.
+constexpr int kNearHoles = 3;
+constexpr int kSamples = 6;
+constexpr int kMaxMatchedPants = 22;
+// How many times the search makes room (splits chords beside the loops) when a piece that must be
+// cut has no candidate.
+constexpr int kRoomAttempts = 2;
+// New candidates are searched for up to this multiple of the shortest valid one at hand.
+constexpr double kBoundFactor = 3.0;
+
+// What cutting piece `piece` of `cut` along closed curve `loop` (inside it) leaves: one piece
+// (nonseparating), or on side 0 a piece with `holes0` holes (the loop's included) and Euler
+// characteristic `chi0`. `walls`: the edges of the loops cut along so far.
+struct Split {
+    bool separating = false;
+    int holes0 = 0, chi0 = 0;
+};
+
+Split split_by(const Surface& s, const Cut& cut, int piece, const Builder& b, const Cycle& loop,
+               std::unordered_set<std::uint64_t> walls) {
+    for (size_t i = 0; i < loop.size(); ++i) walls.insert(edge_key(loop[i], loop[(i + 1) % loop.size()]));
+    std::vector<char> seen(cut.label.size(), 0);
+    std::vector<int> stack{triangle_beside(s, loop, 0)}, side;
+    seen[stack[0]] = 1;
+    while (!stack.empty()) {
+        const int t = stack.back();
+        stack.pop_back();
+        side.push_back(t);
+        for (int k = 0; k < 3; ++k) {
+            const int h = 3 * t + k;
+            if (walls.count(edge_key(s.from(h), s.to(h)))) continue;
+            const int u = s.twin(h) / 3;
+            if (!seen[u] && cut.label[u] == piece) seen[u] = 1, stack.push_back(u);
+        }
+    }
+    Split out;
+    if (seen[triangle_beside(s, loop, 1)]) return out;
+    out.separating = true;
+    out.holes0 = 1;
+    if (const auto it = cut.holes.find(piece); it != cut.holes.end())
+        for (const Hole& hole : it->second) out.holes0 += seen[triangle_beside(s, b.curves_[hole.curve], hole.side)];
+    std::vector<int> label(cut.label.size(), 0);
+    for (int t : side) label[t] = 1;
+    out.chi0 = piece_euler_characteristic(s, label, 1);
+    return out;
+}
+
+struct Candidate {
+    Cycle loop;
+    double length = 0;
+};
+
+// The greedy pants decomposition: the loops so far and the candidates not yet taken.
+class PantsSearch {
+public:
+    PantsSearch(Builder& w, int g) : w_(w), g_(g) {}
+
+    // Cuts the surface into 2g - 2 pairs of pants; false if a piece has no loop left to cut it.
+    bool run(const Say& say) {
+        for (int k = 0; k < 3 * g_ - 3; ++k) {
+            say("neck " + std::to_string(k + 1) + " of " + std::to_string(3 * g_ - 3) + surface_size(w_));
+            refresh();
+            std::optional<Candidate> best = take();
+            for (int room = 0; !best && room <= kRoomAttempts; ++room) {
+                // Every piece that must still be cut, searched in full.
+                bound_ = kInf;
+                for (int piece = 0; piece < cut_.count; ++piece)
+                    if (!done(piece)) generate(piece, std::nullopt);
+                best = take();
+                if (best || room == kRoomAttempts) break;
+                std::vector<Cycle> extra;
+                for (int l : loops_) extra.push_back(w_.curves_[l]);
+                if (w_.split_chords(extra) == 0) break;
+                pool_.clear();
+                refresh();
+            }
+            if (!best) return false;
+            const int id = w_.add_curve(best->loop, true, false);
+            loops_.push_back(id);
+            lengths_.push_back(best->length);
+            refresh();
+            // New candidates next to the new loop's two sides, up to kBoundFactor times the
+            // shortest valid one left (longer ones are searched for when a piece has none).
+            std::stable_sort(pool_.begin(), pool_.end(),
+                      [](const Candidate& a, const Candidate& c) { return a.length < c.length; });
+            bound_ = kInf;
+            for (const Candidate& c : pool_)
+                if (valid(c.loop)) {
+                    bound_ = kBoundFactor * c.length;
+                    break;
+                }
+            for (int side = 0; side < 2; ++side) {
+                const int piece = cut_.label[triangle_beside(w_.s_, w_.curves_[id], side)];
+                if (!done(piece)) generate(piece, std::make_pair(id, side));
+            }
+        }
+        return true;
+    }
+
+    // First call: the candidates on the whole surface (crossing the orthogonal system's cycles).
+    void seed() {
+        refresh();
+        generate(0, std::nullopt);
+    }
+
+    const std::vector<int>& loops() const { return loops_; }
+    const std::vector<double>& lengths() const { return lengths_; }
+
+private:
+    struct PieceState {
+        std::vector<Hole> holes;
+        std::vector<char> outside, wall;
+        std::function<double(int)> cost;
+    };
+
+    void refresh() {
+        cut_ = cut_by(w_, loops_);
+        const Surface& s = w_.s_;
+        on_loop_.assign(s.num_vertices(), 0);
+        loop_edges_.clear();
+        for (int l : loops_) {
+            const Cycle& c = w_.curves_[l];
+            for (size_t i = 0; i < c.size(); ++i) {
+                on_loop_[c[i]] = 1;
+                loop_edges_.insert(edge_key(c[i], c[(i + 1) % c.size()]));
+            }
+        }
+        chi_.assign(cut_.count, 0);
+        for (int p = 0; p < cut_.count; ++p) chi_[p] = piece_euler_characteristic(s, cut_.label, p);
+    }
+
+    std::vector<Hole> holes_of(int piece) const {
+        const auto it = cut_.holes.find(piece);
+        return it == cut_.holes.end() ? std::vector<Hole>{} : it->second;
+    }
+
+    // A pair of pants needs no cut.
+    bool done(int piece) const { return chi_[piece] == -1 && holes_of(piece).size() == 3; }
+
+    // Whether cutting along `loop` (inside one piece, off every loop so far) leaves no disc or
+    // annulus: then the pieces can still be cut into pants.
+    bool valid(const Cycle& loop) const {
+        for (int v : loop)
+            if (on_loop_[v]) return false;
+        const int piece = cut_.label[triangle_beside(w_.s_, loop, 0)];
+        if (done(piece)) return false;
+        const Split split = split_by(w_.s_, cut_, piece, w_, loop, loop_edges_);
+        return !split.separating || (split.chi0 <= -1 && chi_[piece] - split.chi0 <= -1);
+    }
+
+    // The shortest valid candidate, taken from the pool; drops the ones no longer valid.
+    std::optional<Candidate> take() {
+        std::stable_sort(pool_.begin(), pool_.end(),
+                  [](const Candidate& a, const Candidate& b) { return a.length < b.length; });
+        size_t i = 0;
+        while (i < pool_.size() && !valid(pool_[i].loop)) ++i;
+        pool_.erase(pool_.begin(), pool_.begin() + static_cast<long>(i));
+        if (pool_.empty()) return std::nullopt;
+        Candidate c = std::move(pool_.front());
+        pool_.erase(pool_.begin());
+        return c;
+    }
+
+    PieceState piece_state(int piece) const {
+        PieceState ps;
+        ps.holes = holes_of(piece);
+        ps.outside = outside_piece(w_.s_, cut_.label, piece);
+        ps.wall = ps.outside;
+        for (size_t v = 0; v < ps.wall.size(); ++v) ps.wall[v] = ps.wall[v] || on_loop_[v];
+        ps.cost = memoised(w_.cost_near(on_loop_, &ps.outside));
+        return ps;
+    }
+
+    // Adds the valid loops that cross path p once (at kSamples of its inner vertices) without
+    // meeting `also`; with `closed`, p is a closed curve (every vertex may be crossed).
+    void consider(const PieceState& ps, const std::vector<int>& p, const std::vector<int>& also, bool closed = false) {
+        const double bound = bound_;
+        const Surface& s = w_.s_;
+        const int len = static_cast<int>(p.size());
+        if (len < 3) return;
+        std::vector<char> walled = ps.wall;
+        for (int v : p) walled[v] = 1;
+        for (int v : also) walled[v] = 1;
+        const int first = closed ? 0 : 1, inner = closed ? len : len - 2;
+        for (int t = 0; t < std::min(kSamples, inner); ++t) {
+            const int at = first + (inner <= kSamples ? t : t * (inner - 1) / (kSamples - 1));
+            const int x = p[at];
+            if (ps.wall[x]) continue;
+            const auto sec = sectors(s, x, p[(at + len - 1) % len], p[(at + 1) % len]);
+            double total = kInf;
+            const std::vector<int> rest = w_.sector_path(x, sec[0], x, sec[1], walled, ps.cost, &total, nullptr, bound);
+            if (rest.empty() || !(total <= bound)) continue;
+            Candidate c;
+            c.loop.push_back(x);
+            c.loop.insert(c.loop.end(), rest.begin(), rest.end());
+            c.length = total;
+            if (valid(c.loop)) pool_.push_back(std::move(c));
+        }
+    }
+
+    // Candidates in `piece`: for every hole (or only `from`, a new loop's side), loops across the
+    // shortest paths to its nearest holes, and round the two holes and such a path.
+    void generate(int piece, std::optional<std::pair<int, int>> from) {
+        const Surface& s = w_.s_;
+        const PieceState ps = piece_state(piece);
+        const std::vector<Hole>& hs = ps.holes;
+        const int n = static_cast<int>(hs.size());
+        if (n == 0) {  // the whole surface
+            for (int c = 0; c < 2 * g_; ++c) consider(ps, w_.curves_[c], {}, true);
+            return;
+        }
+        std::vector<std::vector<std::pair<int, int>>> rim(n);  // per hole: (free neighbour, loop vertex)
+        for (int i = 0; i < n; ++i) {
+            const Cycle& c = w_.curves_[hs[i].curve];
+            for (int x : c) {
+                const auto [pv, nx] = neighbours_on(c, x);
+                const auto sec = sectors(s, x, pv, nx);  // named: a temporary's [side] would dangle
+                for (int y : sec[1 - hs[i].side])
+                    if (!ps.wall[y]) rim[i].push_back({y, x});
+            }
+        }
+        // A shortest path from `sources` to the rim of a hole not in `skip`, ending on its loop.
+        auto path_to_rim = [&](const std::vector<char>& blocked, const std::vector<std::pair<int, double>>& sources,
+                               const std::vector<char>& skip, int* hole) {
+            PathSearch q;
+            q.blocked = &blocked;
+            q.sources = sources;
+            std::vector<std::array<int, 2>> goal;  // per target: hole, loop vertex
+            for (int j = 0; j < n; ++j) {
+                if (skip[j]) continue;
+                for (const auto& [y, x] : rim[j]) {
+                    if (blocked[y]) continue;
+                    q.targets.push_back({y, norm(s.point(x) - s.point(y))});
+                    goal.push_back({j, x});
+                }
+            }
+            std::vector<int> p;
+            if (q.targets.empty()) return p;
+            const PathResult r = detail::dijkstra(s, q);
+            if (r.target < 0) return p;
+            // The target reached (a vertex may be beside several loop vertices: the first listed
+            // with the least arrival cost, as the search took it).
+            size_t k = 0;
+            double least = kInf;
+            for (size_t t = 0; t < q.targets.size(); ++t)
+                if (q.targets[t].first == r.target && q.targets[t].second < least) least = q.targets[t].second, k = t;
+            *hole = goal[k][0];
+            p = r.path_to(s, r.target);
+            p.push_back(goal[k][1]);
+            return p;
+        };
+        auto rim_sources = [&](int i, const std::vector<char>& blocked) {
+            std::vector<std::pair<int, double>> out;
+            for (const auto& [y, x] : rim[i])
+                if (!blocked[y]) out.push_back({y, norm(s.point(x) - s.point(y))});
+            return out;
+        };
+        for (int i = 0; i < n; ++i) {
+            if (from && (hs[i].curve != from->first || hs[i].side != from->second)) continue;
+            std::vector<char> skip(n, 0);
+            skip[i] = 1;
+            const auto sources = rim_sources(i, ps.wall);
+            for (int round = 0; round < kNearHoles && n > 1; ++round) {
+                int j = -1;
+                std::vector<int> p = path_to_rim(ps.wall, sources, skip, &j);
+                if (p.empty()) break;
+                skip[j] = 1;
+                for (const auto& [y, x] : rim[i])  // the path starts beside i's loop: that vertex first
+                    if (y == p[0]) {
+                        p.insert(p.begin(), x);
+                        break;
+                    }
+                consider(ps, p, {});
+                if (n < 4) continue;
+                // Loops round holes i and j and the path between them: across a shortest path q
+                // from there to the nearest other hole k, which is joined to its own nearest other
+                // hole (else the shortest loop across q goes round k alone).
+                std::vector<char> blocked = ps.wall;
+                for (int v : p) blocked[v] = 1;
+                std::vector<std::pair<int, double>> cluster;
+                for (size_t k = 1; k + 1 < p.size(); ++k) cluster.push_back({p[k], 0.0});
+                for (int h : {i, j})
+                    for (const auto& src : rim_sources(h, blocked)) cluster.push_back(src);
+                std::vector<char> skip2(n, 0);
+                skip2[i] = skip2[j] = 1;
+                int k2 = -1;
+                std::vector<int> q = path_to_rim(blocked, cluster, skip2, &k2);
+                if (q.size() < 2) continue;
+                int before = -1;  // a wall vertex before q's first: on p, or the loop beside it
+                if (std::find(p.begin(), p.end(), q[0]) != p.end()) before = q[0];
+                for (int h : {i, j})
+                    for (const auto& [y, x] : rim[h])
+                        if (before < 0 && y == q[0]) before = x;
+                if (before >= 0 && before != q[0]) q.insert(q.begin(), before);
+                std::vector<char> blocked3 = blocked;
+                for (int v : q) blocked3[v] = 1;
+                std::vector<char> skip3 = skip2;
+                skip3[k2] = 1;
+                int m2 = -1;
+                const std::vector<int> r = path_to_rim(blocked3, rim_sources(k2, blocked3), skip3, &m2);
+                if (r.empty()) continue;
+                std::vector<int> also = p;
+                also.insert(also.end(), r.begin(), r.end());
+                consider(ps, q, also);
+            }
+        }
+    }
+
+    Builder& w_;
+    const int g_;
+    std::vector<int> loops_;
+    std::vector<double> lengths_;
+    std::vector<Candidate> pool_;
+    double bound_ = kInf;  // candidates longer than this are not searched for
+    Cut cut_;
+    std::vector<int> chi_;
+    std::vector<char> on_loop_;
+    std::unordered_set<std::uint64_t> loop_edges_;
+};
+
+}  // namespace
+
+std::optional<std::vector<char>> pants_matching(const std::vector<std::array<int, 2>>& ends,
+                                                const std::vector<double>& lengths, int pants) {
+    QC_CHECK(pants >= 0 && pants <= kMaxMatchedPants && ends.size() == lengths.size(),
+             "pants_matching: " + std::to_string(pants) + " pants");
+    std::vector<double> value(size_t{1} << pants, -kInf);
+    std::vector<int> choice(size_t{1} << pants, -1);
+    value[0] = 0;
+    for (std::uint32_t set = 1; set < (1u << pants); ++set) {
+        if (__builtin_popcount(set) % 2) continue;
+        const int low = __builtin_ctz(set);  // matched first: each matching is built once
+        for (size_t e = 0; e < ends.size(); ++e) {
+            const int a = ends[e][0], z = ends[e][1];
+            if (a == z || (a != low && z != low) || !(set >> a & 1) || !(set >> z & 1)) continue;
+            const std::uint32_t rest = set & ~(1u << a) & ~(1u << z);
+            if (value[rest] > -kInf && value[rest] + lengths[e] > value[set])
+                value[set] = value[rest] + lengths[e], choice[set] = static_cast<int>(e);
+        }
+    }
+    std::uint32_t set = (1u << pants) - 1;
+    if (choice[set] < 0) return std::nullopt;
+    std::vector<char> dropped(ends.size(), 0);
+    while (set) {
+        const int e = choice[set];
+        dropped[e] = 1;
+        set &= ~(1u << ends[e][0]) & ~(1u << ends[e][1]);
+    }
+    return dropped;
+}
+
+std::optional<std::vector<int>> neck_s_cycles(Builder& b, int g, const Say& say) {
+    if (2 * g - 2 > kMaxMatchedPants) return std::nullopt;
+    Builder w = b;
+    PantsSearch search(w, g);
+    search.seed();
+    if (!search.run(say)) {
+        say("necks: a piece has no loop left to cut it");
+        return std::nullopt;
+    }
+    const std::vector<int>& loops = search.loops();
+    const Cut c = cut_by(w, loops);
+    if (c.count != 2 * g - 2) return std::nullopt;
+    std::vector<std::array<int, 2>> ends;
+    for (int l : loops)
+        ends.push_back({c.label[triangle_beside(w.s_, w.curves_[l], 0)], c.label[triangle_beside(w.s_, w.curves_[l], 1)]});
+    const auto dropped = pants_matching(ends, search.lengths(), c.count);
+    if (!dropped) {
+        say("necks: the pairs of pants have no perfect matching");
+        return std::nullopt;
+    }
+    std::vector<int> kept;
+    for (size_t e = 0; e < loops.size(); ++e) {
+        if (!(*dropped)[e])
+            kept.push_back(loops[e]);
+        else
+            w.curves_[loops[e]].clear();  // inside a T-shirt: no longer a curve
+    }
+    std::vector<int> ids;
+    if (!tube_loops(w, kept, surface_area(w.s_.mesh()) / (10.0 * g - 10), &ids, say)) {
+        say("necks: an annulus round a loop does not fit");
+        return std::nullopt;
+    }
+    try {
+        find_pieces(w, ids, g);
+    } catch (const InternalError& e) {
+        say(std::string("necks: ") + e.what());
+        return std::nullopt;
+    }
+    b = std::move(w);
+    return ids;
+}
+
+}  // namespace quadcage::layout::detail
