@@ -89,14 +89,14 @@ Cycles build_cycles(const Mesh& input, const QuadLayoutOptions& options) {
     return c;
 }
 
-// The layout over `cycles` with the S-cycles round the necks (`necks`, falling back to the handle
-// loops'), from the handle loops (falling back to Algorithm 1's where they cannot be placed;
-// *from_handle_loops and *at_necks say which were used) or Algorithm 1's, before the embedding
-// stage, with its quality measured. With max_vertices > 0 the layout curves may refine the surface
-// up to that many vertices; past it the layout is abandoned (OverBudget).
+// The layout over `cycles` with the S-cycles from the handle loops (falling back to Algorithm 1's
+// where they cannot be placed; *from_handle_loops says which were used), or round the necks (with
+// `necks` too; detail::NoNecks where none are found), or Algorithm 1's, before the embedding stage,
+// with its quality measured. With max_vertices > 0 the layout curves may refine the surface up to
+// that many vertices; past it the layout is abandoned (OverBudget).
 QuadLayout build_variant(const Mesh& input, const Cycles& cycles, const QuadLayoutOptions& options,
                          bool handle_loops, bool necks, long long max_vertices, const Say& say,
-                         bool* from_handle_loops, bool* at_necks = nullptr) {
+                         bool* from_handle_loops) {
     auto clock = [start = std::chrono::steady_clock::now()]() {
         return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     };
@@ -128,7 +128,6 @@ QuadLayout build_variant(const Mesh& input, const Cycles& cycles, const QuadLayo
             else
                 net = network_of_cube(b, say);
             *from_handle_loops = net.s_cycles_from_handle_loops;
-            if (at_necks) *at_necks = net.s_cycles_at_necks;
             say("patches");
             detail::tighten_layout_curves(b, net, g);
             b.split_dividing_chords(detail::layout_edge_paths(b, net));
@@ -287,19 +286,22 @@ QuadLayout layout_of_better_s_cycles(const Mesh& input, const Cycles& cycles,
     }
     if (compare && options.s_cycles_from_necks) {
         // The S-cycles round the necks, kept when better on both counts than the layout kept so
-        // far, as Algorithm 1's are. Against the handle loops' alone they would win on a wheel
-        // (generate wheel -g 7: level-3 check_fit.py 3.7e-4 / 4.6e-3 against 1.4e-3 / 1.9e-2), on
-        // botijo and boot, but lose on a big body with small handles (generate handles -g 3 -r 2:
-        // 9.8e-4 / 2.3e-2 against Algorithm 1's 3.4e-4 / 4.8e-3), where their patch area max/min
-        // and corner angles tie with Algorithm 1's (35.9 and 36.9 deg against 36.1 and 35.7).
+        // far, as Algorithm 1's are (level-3 check_fit.py RMS / Hausdorff). Kept on a wheel
+        // (generate wheel -g 7: 3.7e-4 / 4.6e-3 against 1.4e-3 / 1.9e-2), input_wheel (9.1e-4 /
+        // 2.1e-2 against 1.9e-3 / 2.3e-2) and botijo (2.8e-4 / 2.9e-3 against 3.2e-4 / 3.7e-3).
+        // Always taken instead of the handle loops' they would lose on a big body with small
+        // handles (generate handles -g 3 -r 2: 9.8e-4 / 2.3e-2 against Algorithm 1's 3.4e-4 /
+        // 4.8e-3), where the rule keeps Algorithm 1's. It misses boot (the necks, forced, fitted
+        // 1.1e-3 / 1.2e-2 against 2.0e-3 / 2.8e-2): their patch area max/min is the larger there
+        // (1.16e3 against 1.11e3).
         const auto start = std::chrono::steady_clock::now();
         const Say prefixed = [&say](const std::string& m) { say("S-cycles at the necks: " + m); };
         try {
-            bool unused = false, at_necks = false;
-            QuadLayout necks = build_variant(input, cycles, options, true, true, out.input_vertices + bound,
-                                             prefixed, &unused, &at_necks);
+            bool unused = false;
+            QuadLayout necks =
+                build_variant(input, cycles, options, true, true, out.input_vertices + bound, prefixed, &unused);
             const LayoutQuality &a = out.quality, &b = necks.quality;
-            const bool better = at_necks && b.patch_area_max_over_min < a.patch_area_max_over_min &&
+            const bool better = b.patch_area_max_over_min < a.patch_area_max_over_min &&
                                 b.corner_angle_mean_deviation_deg < a.corner_angle_mean_deviation_deg;
             char line[300];
             std::snprintf(line, sizeof line,
@@ -307,7 +309,7 @@ QuadLayout layout_of_better_s_cycles(const Mesh& input, const Cycles& cycles,
                           "and %.1f deg at the necks; keeping %s",
                           a.patch_area_max_over_min, a.corner_angle_mean_deviation_deg, b.patch_area_max_over_min,
                           b.corner_angle_mean_deviation_deg, better ? "the necks'" : "the ones so far");
-            if (at_necks) say(line);
+            say(line);
             if (better) {
                 const double spent = out.seconds.curves + out.seconds.parameterization + out.seconds.verification;
                 out = std::move(necks);

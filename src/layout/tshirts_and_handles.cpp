@@ -278,13 +278,11 @@ Network network_of_handles_and_tshirts(Builder& b, int g, const std::vector<int>
                                         bool from_handle_loops, bool necks, const Say& say) {
     Network net;
     std::optional<std::vector<int>> tubes;
-    bool at_necks = false;
     if (from_handle_loops) {
         for (int i = 0; i < 2 * g; ++i) b.obstacle_[i] = 0;
         if (necks) {
             tubes = neck_s_cycles(b, g, say);
             if (!tubes) throw NoNecks("no pants decomposition at the necks pairs into T-shirts");
-            at_necks = true;
         }
         if (!tubes) tubes = tube_s_cycles(b, handle_loops, g, say);
         if (!tubes) say("the handle loops gave no S-cycles; Algorithm 1's instead");
@@ -292,7 +290,6 @@ Network network_of_handles_and_tshirts(Builder& b, int g, const std::vector<int>
     }
     net.s_cycles = tubes ? *tubes : place_s_cycles(b, g, say);
     net.s_cycles_from_handle_loops = tubes.has_value();
-    net.s_cycles_at_necks = at_necks;
     // From here on the orthogonal system is scaffolding: layout curves may cross it.
     for (int i = 0; i < 2 * g; ++i) b.obstacle_[i] = 0;
     const Pieces pieces = find_pieces(b, net.s_cycles, g);

@@ -41,7 +41,6 @@ struct Network {
     std::vector<int> arcs;                                 // open curves from a corner to a corner
     std::vector<int> s_cycles;                             // Algorithm 1's S_i (g >= 2)
     bool s_cycles_from_handle_loops = false;               // else Algorithm 1's (g >= 2)
-    bool s_cycles_at_necks = false;                        // from the handle loops: round the necks
 };
 
 /// One side of a closed curve that bounds a piece: the curve and which side faces the piece.
