@@ -104,9 +104,9 @@ public:
             loops_.push_back(id);
             lengths_.push_back(best->length);
             refresh();
-            // New candidates next to the new loop's two sides. (Searched only up to a few times
-            // the shortest valid one at hand, botijo's decomposition took 6 s less but fitted
-            // worse: level-3 check_fit.py 5.2e-4 / 1.6e-2 against 2.8e-4 / 2.9e-3.)
+            // New candidates next to the new loop's two sides. (Searched only up to three times
+            // the shortest valid one at hand, botijo's decomposition took about 3 s less but
+            // fitted worse: level-3 check_fit.py 5.2e-4 / 1.6e-2 against 2.8e-4 / 2.9e-3.)
             for (int side = 0; side < 2; ++side) {
                 const int piece = cut_.label[triangle_beside(w_.s_, w_.curves_[id], side)];
                 if (!done(piece)) generate(piece, std::make_pair(id, side));
