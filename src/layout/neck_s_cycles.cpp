@@ -189,7 +189,7 @@ private:
         return ps;
     }
 
-    // Adds the valid loops that cross path p once (at kSamples of its inner vertices) without
+    // Adds the loops that cross path p once (at kSamples of its inner vertices) without
     // meeting `also`; with `closed`, p is a closed curve (every vertex may be crossed).
     // The searches from the samples run on two threads (each with its own memo of the costs);
     // the candidates join the pool in sample order, as one thread would add them.
@@ -230,8 +230,10 @@ private:
         other.join();
         for (const std::exception_ptr& e : error)
             if (e) std::rethrow_exception(e);
+        // Validated when taken (take()): a loop not valid now never becomes valid, and most are
+        // dropped unflooded once they meet a loop taken before them.
         for (Candidate& c : found)
-            if (!c.loop.empty() && valid(c.loop)) pool_.push_back(std::move(c));
+            if (!c.loop.empty()) pool_.push_back(std::move(c));
     }
 
     // Candidates in `piece`: for every hole (or only `from`, a new loop's side), loops across the
