@@ -188,6 +188,43 @@ double seconds_after_cycles(const QuadLayout::Seconds& s) {
     return s.curves + s.parameterization + s.verification;
 }
 
+// Whether `candidate`, a layout of other S-cycles, is to be kept instead of `kept`. With
+// options.score the lower score wins (kept's is scored once: *kept_score holds it); where there is
+// none, or scoring fails (InternalError), the candidate wins when both its patch area max/min and
+// its corner angle deviation are smaller. Says the figures and the choice; the scores' time is
+// added to *seconds.
+bool candidate_is_better(const QuadLayout& kept, const QuadLayout& candidate, const std::string& kept_name,
+                         const std::string& candidate_name, const QuadLayoutOptions& options,
+                         std::optional<double>* kept_score, double* seconds, const Say& say) {
+    const LayoutQuality &a = kept.quality, &b = candidate.quality;
+    char line[400];
+    std::snprintf(line, sizeof line,
+                  "S-cycles: %s give patch area max/min %.3g and corner angle deviation %.1f deg, %s %.3g and "
+                  "%.1f deg",
+                  kept_name.c_str(), a.patch_area_max_over_min, a.corner_angle_mean_deviation_deg,
+                  candidate_name.c_str(), b.patch_area_max_over_min, b.corner_angle_mean_deviation_deg);
+    std::string why = line;
+    bool better = b.patch_area_max_over_min < a.patch_area_max_over_min &&
+                  b.corner_angle_mean_deviation_deg < a.corner_angle_mean_deviation_deg;
+    if (options.score) {
+        const auto start = std::chrono::steady_clock::now();
+        try {
+            if (!*kept_score) *kept_score = options.score(kept);
+            const double s = options.score(candidate);
+            better = s < **kept_score;
+            std::snprintf(line, sizeof line, "; scores %.4g and %.4g (%.1f s)", **kept_score, s,
+                          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+            why += line;
+            if (better) *kept_score = s;
+        } catch (const InternalError& e) {  // the score's own failure: the rule chooses
+            why += std::string("; not scored (") + e.what() + "), so by those";
+        }
+        *seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    }
+    say(why + "; keeping " + (better ? candidate_name : kept_name));
+    return better;
+}
+
 // The layout over `cycles` (build_variant()) with the S-cycles from the handle loops and, for
 // genus >= 2, with Algorithm 1's; the better of the two is kept (see below).
 QuadLayout layout_of_better_s_cycles(const Mesh& input, const Cycles& cycles,
@@ -223,6 +260,7 @@ QuadLayout layout_of_better_s_cycles(const Mesh& input, const Cycles& cycles,
         });
     }
     bool from_handle_loops = false;
+    std::optional<double> out_score;  // options.score(out), once computed
     QuadLayout out = [&] {
         try {
             return build_variant(input, cycles, options, options.s_cycles_from_handle_loops, false, 0, say,
@@ -258,24 +296,19 @@ QuadLayout layout_of_better_s_cycles(const Mesh& input, const Cycles& cycles,
         // 3.2e-3 against 2.6e-3; fertility 2.6e-3 against 2.9e-2, botijo 1.6e-2 against 2.0e-2.
         // Patch area max/min alone mispredicts botijo (17.8 against 7.0); together with the corner
         // angles (34.3 against 35.1 deg) it predicts all five, and eight and skull (fits within
-        // 7%). So Algorithm 1's is kept only when it is better on both. It may refine no more than
-        // the bound.
+        // 7%). So Algorithm 1's is kept only when it is better on both, unless options.score
+        // chooses (a level-1 fit in the CLI; of 12 meshes, its level-3 fits were better than the
+        // rule's on five, by 5-90% in RMS, worse on skull, by 0.1% in RMS and 9% in Hausdorff, and
+        // within 0.2% on the rest: the README's "The S-cycles chosen by a level-1 fit"). It may
+        // refine no more than the bound.
         other->thread.join();
         try {
             for (const std::string& m : other->messages) say(m);
             if (other->error) std::rethrow_exception(other->error);
             QuadLayout& alternative = *other->layout;
-            const LayoutQuality &a = out.quality, &b = alternative.quality;
-            const bool better = b.patch_area_max_over_min < a.patch_area_max_over_min &&
-                                b.corner_angle_mean_deviation_deg < a.corner_angle_mean_deviation_deg;
-            char line[300];
-            std::snprintf(
-                line, sizeof line,
-                "S-cycles: patch area max/min %.3g and corner angle deviation %.1f deg from the handle "
-                "loops, %.3g and %.1f deg from Algorithm 1; keeping %s",
-                a.patch_area_max_over_min, a.corner_angle_mean_deviation_deg, b.patch_area_max_over_min,
-                b.corner_angle_mean_deviation_deg, better ? "Algorithm 1's" : "the handle loops'");
-            say(line);
+            double scoring = 0;  // within the wall time added below
+            const bool better = candidate_is_better(out, alternative, "the handle loops'", "Algorithm 1's", options,
+                                                    &out_score, &scoring, say);
             if (better) out = std::move(alternative);
         } catch (const InternalError& e) {
             say(std::string("S-cycles: keeping the handle loops' (Algorithm 1's: ") + e.what() + ")");
@@ -285,35 +318,27 @@ QuadLayout layout_of_better_s_cycles(const Mesh& input, const Cycles& cycles,
         out.seconds.curves += std::max(0.0, since(after_cycles) - seconds_after_cycles(out.seconds));
     }
     if (compare && options.s_cycles_from_necks) {
-        // The S-cycles round the necks, kept when better on both counts than the layout kept so
-        // far, as Algorithm 1's are (level-3 check_fit.py RMS / Hausdorff). Kept on a wheel
-        // (generate wheel -g 7: 3.7e-4 / 4.6e-3 against 1.4e-3 / 1.9e-2), input_wheel (9.1e-4 /
-        // 2.1e-2 against 1.9e-3 / 2.3e-2) and botijo (2.8e-4 / 2.9e-3 against 3.2e-4 / 3.7e-3).
-        // Always taken instead of the handle loops' they would lose on a big body with small
-        // handles (generate handles -g 3 -r 2: 9.8e-4 / 2.3e-2 against Algorithm 1's 3.4e-4 /
-        // 4.8e-3), where the rule keeps Algorithm 1's. It misses boot (the necks, forced, fitted
-        // 1.1e-3 / 1.2e-2 against 2.0e-3 / 2.8e-2): their patch area max/min is the larger there
-        // (1.16e3 against 1.11e3).
+        // The S-cycles round the necks, kept when better than the layout kept so far, as
+        // Algorithm 1's are. Level-3 check_fit.py RMS / Hausdorff, the necks' against the best of
+        // the other two: a wheel (generate wheel -g 7 -r 3) 3.7e-4 / 4.6e-3 against 1.4e-3 /
+        // 1.9e-2, boot 1.1e-3 / 1.1e-2 against 2.0e-3 / 2.8e-2, botijo 2.8e-4 / 2.9e-3 against
+        // 3.2e-4 / 3.7e-3; on a big body with small handles in a row (generate handles -g 3
+        // --in-a-row) 5.5e-4 / 7.1e-3 against Algorithm 1's 3.7e-4 / 4.2e-3. The rule keeps the
+        // handle loops' on boot (the necks' patch area max/min is the larger there, 1.16e3 against
+        // 1.11e3); the level-1 fit score keeps the necks'.
         const auto start = std::chrono::steady_clock::now();
         const Say prefixed = [&say](const std::string& m) { say("S-cycles at the necks: " + m); };
         try {
             bool unused = false;
             QuadLayout necks =
                 build_variant(input, cycles, options, true, true, out.input_vertices + bound, prefixed, &unused);
-            const LayoutQuality &a = out.quality, &b = necks.quality;
-            const bool better = b.patch_area_max_over_min < a.patch_area_max_over_min &&
-                                b.corner_angle_mean_deviation_deg < a.corner_angle_mean_deviation_deg;
-            char line[300];
-            std::snprintf(line, sizeof line,
-                          "S-cycles: patch area max/min %.3g and corner angle deviation %.1f deg so far, %.3g "
-                          "and %.1f deg at the necks; keeping %s",
-                          a.patch_area_max_over_min, a.corner_angle_mean_deviation_deg, b.patch_area_max_over_min,
-                          b.corner_angle_mean_deviation_deg, better ? "the necks'" : "the ones so far");
-            say(line);
+            double scoring = 0;
+            const bool better = candidate_is_better(out, necks, "those kept so far", "the necks'", options, &out_score,
+                                                    &scoring, say);
             if (better) {
                 const double spent = out.seconds.curves + out.seconds.parameterization + out.seconds.verification;
                 out = std::move(necks);
-                out.seconds.curves += spent;  // the layouts not kept, built before it
+                out.seconds.curves += spent + scoring;  // the layouts not kept, built before it, and the scores
             } else {
                 out.seconds.curves += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
             }

@@ -540,6 +540,59 @@ TEST(QuadLayoutSCycleChoice, AWheelKeepsTheSCyclesAtItsNecks) {
               << L.quality.corner_angle_mean_deviation_deg << " deg\n";
 }
 
+// QuadLayoutOptions::score decides the choice in place of the rule. On 3 handles in a row all three
+// constructions are built (the handle loops', Algorithm 1's, the necks'), each scored once as a
+// verified layout; a score that prefers the worst-balanced layout gets it, a score that fails
+// leaves the rule's choice.
+TEST(QuadLayoutSCycleChoice, AScoreChoosesAmongTheConstructions) {
+    shapes::HandleBodyOptions ho;
+    ho.handles = 3;
+    ho.in_a_row = true;
+    const Mesh input = shapes::body_with_handles(ho);
+    struct Scored {
+        std::vector<Vec3> corners;
+        double area_ratio;
+    };
+    std::vector<Scored> scored;
+    layout::QuadLayoutOptions o;
+    o.score = [&scored](const QuadLayout& L) {
+        EXPECT_EQ(verify_quad_layout(L), "");
+        std::vector<Vec3> corners;
+        for (int v : L.corner_vertex) corners.push_back(L.mesh.points[v]);
+        scored.push_back({corners, L.quality.patch_area_max_over_min});
+        return -L.quality.patch_area_max_over_min;
+    };
+    const QuadLayout L = build_quad_layout(input, o);
+    expect_valid_layout(L, input, 3);
+    ASSERT_EQ(scored.size(), 3u);
+    const auto worst = std::max_element(scored.begin(), scored.end(), [](const Scored& a, const Scored& b) {
+        return a.area_ratio < b.area_ratio;
+    });
+    // The edges are placed after the choice; the corners stay where they are.
+    std::vector<Vec3> corners;
+    for (int v : L.corner_vertex) corners.push_back(L.mesh.points[v]);
+    EXPECT_EQ(corners, worst->corners);
+    // Without a score, or with one that fails, the rule chooses.
+    layout::QuadLayoutOptions rule;
+    const QuadLayout by_rule = build_quad_layout(input, rule);
+    layout::QuadLayoutOptions failing;
+    int calls = 0;
+    failing.score = [&calls](const QuadLayout&) -> double {
+        ++calls;
+        throw InternalError("no score");
+    };
+    std::vector<std::string> said;
+    failing.progress = [&said](const std::string& m) { said.push_back(m); };
+    const QuadLayout fallen_back = build_quad_layout(input, failing);
+    EXPECT_EQ(calls, 2);  // once for each choice: the kept layout's score fails first
+    EXPECT_TRUE(says(said, "not scored (no score), so by those"));
+    EXPECT_EQ(fallen_back.mesh.points, by_rule.mesh.points);
+    EXPECT_EQ(fallen_back.triangle_patch, by_rule.triangle_patch);
+    std::vector<Vec3> rule_corners;  // the rule keeps another layout: the score made the choice above
+    for (int v : by_rule.corner_vertex) rule_corners.push_back(by_rule.mesh.points[v]);
+    EXPECT_NE(rule_corners, corners);
+}
+
 // Plates of genus 9 and more: the handle annuli or the body annuli of the handle-loop S-cycles
 // found no room between close holes, and Algorithm 1's S-cycles took over; they wind round the
 // plate side by side, each T-shirt ring then squeezed along corridors between them and the mesh

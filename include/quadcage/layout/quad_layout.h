@@ -16,6 +16,8 @@ namespace quadcage::layout {
 /// (u, v) in the unit square of a patch.
 using UV = std::array<double, 2>;
 
+struct QuadLayout;
+
 /// Options for build_quad_layout().
 struct QuadLayoutOptions {
     OrthogonalSystemOptions cycles;  ///< For the orthogonal system the layout starts from (g >= 1).
@@ -30,18 +32,24 @@ struct QuadLayoutOptions {
     /// With s_cycles_compare, genus 2..12: also build the layout with S-cycles round loops at the
     /// surface's necks (neck_s_cycles.cpp): a pants decomposition of short loops, taken shortest
     /// first, whose pairs of pants join into T-shirts along the perfect matching that drops the
-    /// longest loops; an annulus round each loop kept. Kept, as Algorithm 1's are, if both its
-    /// patch area max/min and its corner angle deviation are smaller than the layout kept so far,
-    /// and within vertices_added_bound(). The handle loops' body cut winds long S-cycles round a
+    /// longest loops; an annulus round each loop kept. Kept, as Algorithm 1's are, if it is
+    /// better than the layout kept so far (by `score`, else by the rule there) and within
+    /// vertices_added_bound(). The handle loops' body cut winds long S-cycles round a
     /// ring of holes (a wheel's, input_wheel's); these stay short. The README has the figures.
     bool s_cycles_from_necks = true;
     /// With s_cycles_from_handle_loops, where the handle loops gave the S-cycles: build the layout
     /// with Algorithm 1's S-cycles too (unless the first layout is past vertices_added_bound();
     /// abandoned once it refines past it) and keep it if both its patch area max/min and its
-    /// corner angle deviation are smaller. Which fits better depends on the shape (big bodies
-    /// with small handles: Algorithm 1's; fertility, botijo: the handle loops'; the README's
-    /// Benchmarks). This about doubles the time of the layout curves.
+    /// corner angle deviation are smaller (or, with `score`, if it scores lower). Which fits better
+    /// depends on the shape (big bodies with small handles: Algorithm 1's; fertility: the handle
+    /// loops'; the README's Benchmarks). This about doubles the time of the layout curves.
     bool s_cycles_compare = true;
+    /// Scores a candidate layout for the choice between S-cycle constructions above (lower is
+    /// better), in place of the rule on patch area max/min and corner angles; empty: that rule.
+    /// Called with each verified candidate before its edges are placed (smooth_edges), at most
+    /// three times. fit::level1_fit_score() ranks by a level-1 fit (fit::fit_cage() and the CLI
+    /// use it); if it throws InternalError, that choice falls back to the rule.
+    std::function<double(const QuadLayout&)> score;
     int relax_sweeps = 3;  ///< Passes that move every layout edge to the middle of its two patches
                            ///< (0: keep the constructed routes), >= 0.
     int relax_corner_sweeps = 2;  ///< The first this many of those passes first move every corner
