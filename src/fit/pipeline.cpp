@@ -5,13 +5,25 @@
 
 namespace quadcage::fit {
 
+std::function<double(const layout::QuadLayout&)> level1_fit_score(FitOptions options) {
+    options.mode = FitMode::Level;
+    options.level = 1;
+    options.progress = nullptr;
+    if (const std::string e = options.validate(); !e.empty()) throw InvalidInput("fit options: " + e);
+    return [options](const layout::QuadLayout& layout) {
+        return fit_surface(layout, options).levels.back().relative.rms;
+    };
+}
+
 CageFit fit_cage(const Mesh& mesh, const layout::QuadLayoutOptions& layout_options,
                  const FitOptions& fit_options) {
     if (const std::string e = fit_options.validate(); !e.empty()) throw InvalidInput("fit options: " + e);
     using Clock = std::chrono::steady_clock;
     CageFit out;
     const Clock::time_point t0 = Clock::now();
-    out.layout = layout::build_quad_layout(mesh, layout_options);
+    layout::QuadLayoutOptions chosen_by_fit = layout_options;
+    if (!chosen_by_fit.score) chosen_by_fit.score = level1_fit_score();
+    out.layout = layout::build_quad_layout(mesh, chosen_by_fit);
     const Clock::time_point t1 = Clock::now();
     out.fit = fit_surface(out.layout, fit_options);
     out.layout_seconds = std::chrono::duration<double>(t1 - t0).count();

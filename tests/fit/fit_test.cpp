@@ -180,6 +180,30 @@ TEST(FitSurface, DeterministicAndIndependentOfTheThreadCount) {
         EXPECT_LT(norm(a.surface.control_mesh().points[i] - c.surface.control_mesh().points[i]), 1e-9);
 }
 
+// level1_fit_score() (the layout's S-cycle choice in fit_cage() and the CLI): the relative RMS of
+// the level-1 fit with the given options, whatever their level, mode and progress; bad options
+// are refused when the score is made, not when a layout is scored.
+TEST(FitSurface, LevelOneFitScoreIsTheLevelOneRms) {
+    const layout::QuadLayout layout = test::cube_sphere_layout(8);
+    FitOptions o = fast_options();
+    o.mode = FitMode::Tolerance;
+    o.level = 3;
+    int said = 0;
+    o.progress = [&said](const std::string&) { ++said; };
+    const auto score = level1_fit_score(o);
+    const double s = score(layout);
+    EXPECT_EQ(said, 0);
+    FitOptions one = fast_options();
+    one.level = 1;
+    const FitResult r = fit_surface(layout, one);
+    ASSERT_EQ(r.levels.back().level, 1);
+    EXPECT_EQ(s, r.levels.back().relative.rms);
+    EXPECT_GT(s, 0);
+    FitOptions bad;
+    bad.outer_iterations = 0;
+    EXPECT_THROW(level1_fit_score(bad), InvalidInput);
+}
+
 TEST(FitSurface, TheDirectSolverEndsWhereCeresEnds) {
     // Both take one damped Gauss-Newton step per round; the direct solver factorises the normal
     // equations itself, with the analysis kept for the level. Rounding apart, the fits agree.
