@@ -170,6 +170,7 @@ void apply(const EmbeddingFlags& flags, layout::QuadLayoutOptions* options) {
     options->embedding_cone_sweeps = flags.cone_sweeps;
     options->smooth_edges = !flags.staircase_edges;
     options->s_cycles_from_necks = !flags.no_necks;
+    if (!flags.choose_by_shape) options->score = fit::level1_fit_score();
     options->edge_embedding_iterations = flags.edge_embedding;
     options->edge_embedding_max_vertices = flags.edge_embedding_max_vertices;
 }
@@ -198,6 +199,7 @@ std::vector<std::string> embedding_arguments(const EmbeddingFlags& flags) {
         args.insert(args.end(), {"--embedding-cone-sweeps", std::to_string(flags.cone_sweeps)});
     if (flags.staircase_edges) args.push_back("--staircase-edges");
     if (flags.no_necks) args.push_back("--no-necks");
+    if (flags.choose_by_shape) args.insert(args.end(), {"--choose-s-cycles", "shape"});
     if (flags.edge_embedding != defaults.edge_embedding)
         args.insert(args.end(), {"--edge-embedding", std::to_string(flags.edge_embedding)});
     if (flags.edge_embedding_max_vertices != defaults.edge_embedding_max_vertices)

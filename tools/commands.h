@@ -37,6 +37,7 @@ struct EmbeddingFlags {
     int cone_sweeps = 0;
     bool staircase_edges = false;  ///< --staircase-edges: the layout edges not smoothed
     bool no_necks = false;         ///< --no-necks: the S-cycles from the handle loops, not the necks
+    bool choose_by_shape = false;  ///< --choose-s-cycles shape: by patch areas and angles, not a level-1 fit
     /// --edge-embedding N: Newton iterations of the global edge embedding (0: off)
     int edge_embedding = quadcage::layout::QuadLayoutOptions{}.edge_embedding_iterations;
     /// --edge-embedding-max-vertices N: above this many layout-mesh vertices it is skipped

@@ -55,8 +55,17 @@ std::vector<CLI::Option*> add_embedding_flags(CLI::App* cmd, quadcage::cli::Embe
         "--no-necks", flags.no_necks,
         "Do not build the layout with S-cycles round the surface's necks (by default, genus 2-12: the\n"
         "shortest loops that cut it into pairs of pants, joined in pairs into T-shirts; that layout\n"
-        "is kept when both its patch area max/min and corner angle deviation are smaller; see the\n"
-        "README). Saves its time"));
+        "is kept when it is the better, see --choose-s-cycles, and the README). Saves its time"));
+    all.push_back(
+        cmd->add_option_function<std::string>(
+               "--choose-s-cycles",
+               [&flags](const std::string& how) { flags.choose_by_shape = how == "shape"; },
+               "How the layout's S-cycles are chosen among those built (genus >= 2: the handle loops',\n"
+               "Algorithm 1's, the necks'): fit (the default) keeps the one whose cage fits the mesh\n"
+               "best at level 1 (relative RMS; a level-1 fit of each, 0.2-3 s on the shared meshes);\n"
+               "shape keeps a later one only when both its patch area max/min and corner angle\n"
+               "deviation are smaller")
+            ->check(CLI::IsMember({"fit", "shape"})));
     all.push_back(cmd->add_flag(
         "--staircase-edges", flags.staircase_edges,
         "Leave the layout edges along mesh edges as the construction routed them, zigzagging across\n"

@@ -223,6 +223,27 @@ TEST(CliUsage, BadUsageExitsTwo) {
     EXPECT_EQ(quadcage("generate cube -o x.obj").code, 2);
 }
 
+// --choose-s-cycles: by default a level-1 fit scores each S-cycle construction built and the best
+// is kept; `shape` keeps the rule on patch areas and corner angles, which on this body with two
+// small handles chooses another layout. Any other value is bad usage.
+TEST(CliLayout, TheSCyclesAreChosenByALevelOneFitUnlessAskedOtherwise) {
+    const fs::path dir = scratch_dir();
+    const std::string mesh = (dir / "handles2.obj").string();
+    ASSERT_EQ(quadcage("generate handles -g 2 -r 2 -o '" + mesh + "'").code, 0);
+    const Outcome by_fit = quadcage("layout '" + mesh + "' -o '" + (dir / "by_fit").string() + "'");
+    ASSERT_EQ(by_fit.code, 0) << by_fit.err;
+    const Outcome by_shape =
+        quadcage("layout '" + mesh + "' --choose-s-cycles shape -o '" + (dir / "by_shape").string() + "'");
+    ASSERT_EQ(by_shape.code, 0) << by_shape.err;
+    EXPECT_NE(by_fit.err.find("; scores "), std::string::npos) << by_fit.err;
+    EXPECT_EQ(by_shape.err.find("; scores "), std::string::npos) << by_shape.err;
+    EXPECT_NE(slurp(dir / "by_fit" / "layout.ply"), slurp(dir / "by_shape" / "layout.ply"));
+    const Outcome bad = quadcage("layout '" + mesh + "' --choose-s-cycles best -o '" + (dir / "bad").string() + "'");
+    EXPECT_EQ(bad.code, 2);
+    EXPECT_NE(bad.err.find("--choose-s-cycles"), std::string::npos) << bad.err;
+    EXPECT_FALSE(fs::exists(dir / "bad"));
+}
+
 TEST(CliUsage, HelpExitsZeroAndListsCommands) {
     const Outcome r = quadcage("--help");
     EXPECT_EQ(r.code, 0);
