@@ -30,6 +30,7 @@ std::string QuadLayoutOptions::validate() const {
         return "edge_embedding_iterations must be >= 0, got " + std::to_string(edge_embedding_iterations);
     if (edge_embedding_max_vertices < 0)
         return "edge_embedding_max_vertices must be >= 0, got " + std::to_string(edge_embedding_max_vertices);
+    if (!(score_margin >= 0 && score_margin < 1)) return "score_margin must be in [0, 1)";
     if (embedding_iterations < 0)
         return "embedding_iterations must be >= 0, got " + std::to_string(embedding_iterations);
     if (embedding_cone_sweeps < 0)
@@ -190,8 +191,9 @@ double seconds_after_cycles(const QuadLayout::Seconds& s) {
 
 // Whether `candidate`, a layout of other S-cycles, is to be kept instead of `kept`. With
 // options.score the lower score wins (kept's is scored once: *kept_score holds it); where there is
-// none, or scoring fails (InternalError), the candidate wins when both its patch area max/min and
-// its corner angle deviation are smaller. Says the figures and the choice; the scores' time is
+// none, where the scores differ by no more than options.score_margin of kept's, or where scoring
+// fails (InternalError), the candidate wins when both its patch area max/min and its corner angle
+// deviation are smaller. Says the figures and the choice; the scores' time is
 // added to *seconds.
 bool candidate_is_better(const QuadLayout& kept, const QuadLayout& candidate, const std::string& kept_name,
                          const std::string& candidate_name, const QuadLayoutOptions& options,
@@ -210,10 +212,12 @@ bool candidate_is_better(const QuadLayout& kept, const QuadLayout& candidate, co
         const auto start = std::chrono::steady_clock::now();
         try {
             if (!*kept_score) *kept_score = options.score(kept);
-            const double s = options.score(candidate);
-            better = s < **kept_score;
-            std::snprintf(line, sizeof line, "; scores %.4g and %.4g (%.1f s)", **kept_score, s,
-                          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+            const double s = options.score(candidate), k = **kept_score;
+            const bool decides = std::abs(s - k) > options.score_margin * k;
+            if (decides) better = s < k;
+            std::snprintf(line, sizeof line, "; scores %.4g and %.4g (%.1f s)%s", k, s,
+                          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
+                          decides ? "" : ", too close to decide, so by those");
             why += line;
             if (better) *kept_score = s;
         } catch (const InternalError& e) {  // the score's own failure: the rule chooses

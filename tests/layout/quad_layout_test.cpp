@@ -542,8 +542,8 @@ TEST(QuadLayoutSCycleChoice, AWheelKeepsTheSCyclesAtItsNecks) {
 
 // QuadLayoutOptions::score decides the choice in place of the rule. On 3 handles in a row all three
 // constructions are built (the handle loops', Algorithm 1's, the necks'), each scored once as a
-// verified layout; a score that prefers the worst-balanced layout gets it, a score that fails
-// leaves the rule's choice.
+// verified layout; a score that prefers the worst-balanced layout gets it, a score that fails, or
+// whose values are within score_margin of each other, leaves the rule's choice.
 TEST(QuadLayoutSCycleChoice, AScoreChoosesAmongTheConstructions) {
     shapes::HandleBodyOptions ho;
     ho.handles = 3;
@@ -560,7 +560,7 @@ TEST(QuadLayoutSCycleChoice, AScoreChoosesAmongTheConstructions) {
         std::vector<Vec3> corners;
         for (int v : L.corner_vertex) corners.push_back(L.mesh.points[v]);
         scored.push_back({corners, L.quality.patch_area_max_over_min});
-        return -L.quality.patch_area_max_over_min;
+        return 1 / L.quality.patch_area_max_over_min;  // these differ by more than the margin here
     };
     const QuadLayout L = build_quad_layout(input, o);
     expect_valid_layout(L, input, 3);
@@ -588,6 +588,18 @@ TEST(QuadLayoutSCycleChoice, AScoreChoosesAmongTheConstructions) {
     EXPECT_TRUE(says(said, "not scored (no score), so by those"));
     EXPECT_EQ(fallen_back.mesh.points, by_rule.mesh.points);
     EXPECT_EQ(fallen_back.triangle_patch, by_rule.triangle_patch);
+    // Scores within score_margin of each other do not decide either.
+    layout::QuadLayoutOptions close;
+    close.score = [](const QuadLayout& L) { return 1 + 1e-3 / L.quality.patch_area_max_over_min; };
+    std::vector<std::string> said_close;
+    close.progress = [&said_close](const std::string& m) { said_close.push_back(m); };
+    const QuadLayout too_close = build_quad_layout(input, close);
+    EXPECT_TRUE(says(said_close, "too close to decide, so by those"));
+    EXPECT_EQ(too_close.mesh.points, by_rule.mesh.points);
+    EXPECT_EQ(too_close.triangle_patch, by_rule.triangle_patch);
+    close.score_margin = 1;
+    EXPECT_NE(close.validate(), "");
+    EXPECT_THROW(build_quad_layout(input, close), InvalidInput);
     std::vector<Vec3> rule_corners;  // the rule keeps another layout: the score made the choice above
     for (int v : by_rule.corner_vertex) rule_corners.push_back(by_rule.mesh.points[v]);
     EXPECT_NE(rule_corners, corners);
