@@ -301,9 +301,8 @@ QuadLayout layout_of_better_s_cycles(const Mesh& input, const Cycles& cycles,
         // Patch area max/min alone mispredicts botijo (17.8 against 7.0); together with the corner
         // angles (34.3 against 35.1 deg) it predicts all five, and eight and skull (fits within
         // 7%). So Algorithm 1's is kept only when it is better on both, unless options.score
-        // chooses (a level-1 fit in the CLI; of 12 meshes, its level-3 fits were better than the
-        // rule's on five, by 5-90% in RMS, worse on skull, by 0.1% in RMS and 9% in Hausdorff, and
-        // within 0.2% on the rest: the README's "The S-cycles chosen by a level-1 fit"). It may
+        // decides (a level-1 fit in the CLI: with its margin it kept the lowest level-3 RMS on 10
+        // of 14 meshes, the rule on 6; the README's "The S-cycles chosen by a level-1 fit"). It may
         // refine no more than the bound.
         other->thread.join();
         try {
