@@ -193,8 +193,7 @@ double seconds_after_cycles(const QuadLayout::Seconds& s) {
 // options.score the lower score wins (kept's is scored once: *kept_score holds it); where there is
 // none, where the scores differ by no more than options.score_margin of kept's, or where scoring
 // fails (InternalError), the candidate wins when both its patch area max/min and its corner angle
-// deviation are smaller. Says the figures and the choice; the scores' time is
-// added to *seconds.
+// deviation are smaller. Says the figures and the choice; the scores' time is added to *seconds.
 bool candidate_is_better(const QuadLayout& kept, const QuadLayout& candidate, const std::string& kept_name,
                          const std::string& candidate_name, const QuadLayoutOptions& options,
                          std::optional<double>* kept_score, double* seconds, const Say& say) {
