@@ -21,9 +21,14 @@ GetThreads get_threads() {
     return f;
 }
 
+std::recursive_mutex& turns() {
+    static std::recursive_mutex m;
+    return m;
+}
+
 }  // namespace
 
-ScopedBlasThreads::ScopedBlasThreads(int threads) {
+ScopedBlasThreads::ScopedBlasThreads(int threads) : turn_(turns()) {
     const SetThreads set = set_threads();
     const GetThreads get = get_threads();
     if (!set || !get) return;

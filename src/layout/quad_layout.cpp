@@ -163,7 +163,8 @@ QuadLayout build_variant(const Mesh& input, const Cycles& cycles, const QuadLayo
     throw InternalError(failure);
 }
 
-// A layout built in a second thread (build_quad_layout's Algorithm 1 S-cycles), with what it said.
+// A layout built in another thread (build_quad_layout's Algorithm 1 and necks' S-cycles), with what
+// it said.
 struct Speculation {
     struct Cancelled {};  // thrown at the next progress message once `cancel` is set
     explicit Speculation(long long max) : max_vertices(max) {}
@@ -183,6 +184,28 @@ struct Speculation {
     std::optional<QuadLayout> layout;
     std::exception_ptr error;  // what build_variant threw (nothing if it was cancelled)
 };
+
+// Starts build_variant(input, cycles, options, handle_loops, necks, max_vertices) in a thread of
+// its own, its progress messages held with `prefix`.
+std::unique_ptr<Speculation> speculate(const Mesh& input, const Cycles& cycles, const QuadLayoutOptions& options,
+                                       bool handle_loops, bool necks, long long max_vertices, std::string prefix) {
+    auto sp = std::make_unique<Speculation>(max_vertices);
+    Speculation* p = sp.get();
+    sp->thread = std::thread([p, &input, &cycles, &options, handle_loops, necks, prefix = std::move(prefix)] {
+        const Say held = [p, &prefix](const std::string& m) {
+            if (p->cancel.load()) throw Speculation::Cancelled{};
+            p->messages.push_back(prefix + m);
+        };
+        try {
+            bool unused = false;
+            p->layout = build_variant(input, cycles, options, handle_loops, necks, p->max_vertices, held, &unused);
+        } catch (const Speculation::Cancelled&) {
+        } catch (...) {
+            p->error = std::current_exception();
+        }
+    });
+    return sp;
+}
 
 // A layout's seconds after the orthogonal system (which both S-cycle constructions share).
 double seconds_after_cycles(const QuadLayout::Seconds& s) {
@@ -229,39 +252,33 @@ bool candidate_is_better(const QuadLayout& kept, const QuadLayout& candidate, co
 }
 
 // The layout over `cycles` (build_variant()) with the S-cycles from the handle loops and, for
-// genus >= 2, with Algorithm 1's; the better of the two is kept (see below).
+// genus >= 2, with Algorithm 1's and with the necks'; the best of them is kept (see below).
 QuadLayout layout_of_better_s_cycles(const Mesh& input, const Cycles& cycles,
                                      const QuadLayoutOptions& options, const Say& say) {
-    // Algorithm 1's layout for the comparison below depends only on the orthogonal system and the
-    // bound, so it is built in a second thread while the handle loops' layout is built here. Its
-    // progress messages are held back and said once it is known to be wanted (else it is stopped
-    // at its next message and dropped), so the messages and the result are those of building the
-    // two one after the other.
+    // Algorithm 1's layout and the necks' for the comparisons below depend only on the orthogonal
+    // system and the bound, so each is built in a thread of its own while the handle loops' layout
+    // is built here, and they are scored here while the others finish. Their progress messages are
+    // held back and said once each is known to be wanted (else it is stopped at its next message
+    // and dropped), so the messages and the result are those of building them one after the other.
+    // (Their factorisations and the scores' take turns: blas_threads.h.) On the 2-core machine,
+    // with the necks' built after the others, botijo's layout took 23.7 s and boot's 29.8 s; built
+    // beside them, 21.9 s and 27.0 s, the same layouts.
     const int g = cycles.system.genus;
     const auto after_cycles = std::chrono::steady_clock::now();
     auto since = [](std::chrono::steady_clock::time_point t) {
         return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
     };
-    std::unique_ptr<Speculation> other;
+    std::unique_ptr<Speculation> other, necks;
     if (options.s_cycles_from_handle_loops && options.s_cycles_compare && g >= 2) {
         const long long max_vertices =
             input.num_vertices() + vertices_added_bound(input.num_vertices(), 8 * g - 8);
-        other = std::make_unique<Speculation>(max_vertices);
-        Speculation* sp = other.get();
-        other->thread = std::thread([sp, &input, &cycles, &options] {
-            const Say held = [sp](const std::string& m) {
-                if (sp->cancel.load()) throw Speculation::Cancelled{};
-                sp->messages.push_back("Algorithm 1's S-cycles: " + m);
-            };
-            try {
-                bool unused = false;
-                sp->layout = build_variant(input, cycles, options, false, false, sp->max_vertices, held, &unused);
-            } catch (const Speculation::Cancelled&) {
-            } catch (...) {
-                sp->error = std::current_exception();
-            }
-        });
+        other = speculate(input, cycles, options, false, false, max_vertices, "Algorithm 1's S-cycles: ");
+        if (options.s_cycles_from_necks)
+            necks = speculate(input, cycles, options, true, true, max_vertices, "S-cycles at the necks: ");
     }
+    auto drop = [](std::unique_ptr<Speculation>* sp) {
+        if (*sp) (*sp)->stop(), sp->reset();
+    };
     bool from_handle_loops = false;
     std::optional<double> out_score;  // options.score(out), once computed
     QuadLayout out = [&] {
@@ -269,23 +286,20 @@ QuadLayout layout_of_better_s_cycles(const Mesh& input, const Cycles& cycles,
             return build_variant(input, cycles, options, options.s_cycles_from_handle_loops, false, 0, say,
                                  &from_handle_loops);
         } catch (...) {
-            if (other) other->stop();
+            drop(&other);
+            drop(&necks);
             throw;
         }
     }();
     const long long bound = vertices_added_bound(out.input_vertices, out.cage.num_corners());
-    // The handle loops gave the S-cycles only where the second thread was started (genus >= 2 and
-    // both options), and a verified layout has its 8g - 8 corners: the bound is the one it used.
+    // The handle loops gave the S-cycles only where the other threads were started (genus >= 2 and
+    // both options), and a verified layout has its 8g - 8 corners: the bound is the one they used.
     const bool compare = from_handle_loops && options.s_cycles_compare;
     const bool within_bound = out.mesh.num_vertices() - out.input_vertices <= bound;
     QC_CHECK(!compare || (other && other->max_vertices == out.input_vertices + bound),
              "quad layout: Algorithm 1's layout was not built with the handle loops' bound");
-    if (other && !(compare && within_bound)) {
-        const auto stopping = std::chrono::steady_clock::now();
-        other->stop();  // not wanted
-        other.reset();
-        out.seconds.curves += since(stopping);  // waiting for it to stop: time of the layout curves
-    }
+    if (!(compare && within_bound)) drop(&other);  // not wanted
+    if (!compare) drop(&necks);
     if (compare && !within_bound) {
         // Algorithm 1's stacked S-cycles refined more than the handle loops' on every mesh where
         // those passed the bound (boot 41k against 29k, input_wheel 290k against 24k), and were
@@ -307,19 +321,16 @@ QuadLayout layout_of_better_s_cycles(const Mesh& input, const Cycles& cycles,
         try {
             for (const std::string& m : other->messages) say(m);
             if (other->error) std::rethrow_exception(other->error);
-            QuadLayout& alternative = *other->layout;
             double scoring = 0;  // within the wall time added below
-            const bool better = candidate_is_better(out, alternative, "the handle loops'", "Algorithm 1's", options,
-                                                    &out_score, &scoring, say);
-            if (better) out = std::move(alternative);
+            if (candidate_is_better(out, *other->layout, "the handle loops'", "Algorithm 1's", options, &out_score,
+                                    &scoring, say))
+                out = std::move(*other->layout);
         } catch (const InternalError& e) {
             say(std::string("S-cycles: keeping the handle loops' (Algorithm 1's: ") + e.what() + ")");
         }
-        // Built side by side: the layout not kept adds the wall time past the kept one's, not its
-        // own duration (time spent on the layout curves).
-        out.seconds.curves += std::max(0.0, since(after_cycles) - seconds_after_cycles(out.seconds));
+        other.reset();
     }
-    if (compare && options.s_cycles_from_necks) {
+    if (necks) {
         // The S-cycles round the necks, kept when better than the layout kept so far, as
         // Algorithm 1's are. Level-3 check_fit.py RMS / Hausdorff, the necks' against the best of
         // the other two: a wheel (generate wheel -g 7 -r 3) 3.7e-4 / 4.6e-3 against 1.4e-3 /
@@ -327,28 +338,24 @@ QuadLayout layout_of_better_s_cycles(const Mesh& input, const Cycles& cycles,
         // 3.2e-4 / 3.7e-3; on a big body with small handles in a row (generate handles -g 3
         // --in-a-row) 5.5e-4 / 7.1e-3 against Algorithm 1's 3.7e-4 / 4.2e-3. The rule keeps the
         // handle loops' on boot (the necks' patch area max/min is the larger there, 1.16e3 against
-        // 1.11e3); the level-1 fit score keeps the necks'.
-        const auto start = std::chrono::steady_clock::now();
-        const Say prefixed = [&say](const std::string& m) { say("S-cycles at the necks: " + m); };
+        // 1.11e3); the level-1 fit score keeps the necks'. Built within the same bound (OverBudget
+        // past it).
+        necks->thread.join();
         try {
-            bool unused = false;
-            QuadLayout necks =
-                build_variant(input, cycles, options, true, true, out.input_vertices + bound, prefixed, &unused);
+            for (const std::string& m : necks->messages) say(m);
+            if (necks->error) std::rethrow_exception(necks->error);
             double scoring = 0;
-            const bool better = candidate_is_better(out, necks, "those kept so far", "the necks'", options, &out_score,
-                                                    &scoring, say);
-            if (better) {
-                const double spent = out.seconds.curves + out.seconds.parameterization + out.seconds.verification;
-                out = std::move(necks);
-                out.seconds.curves += spent + scoring;  // the layouts not kept, built before it, and the scores
-            } else {
-                out.seconds.curves += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-            }
-        } catch (const InternalError& e) {  // OverBudget too: past the bound
+            if (candidate_is_better(out, *necks->layout, "those kept so far", "the necks'", options, &out_score,
+                                    &scoring, say))
+                out = std::move(*necks->layout);
+        } catch (const InternalError& e) {  // OverBudget and NoNecks too
             say(std::string("S-cycles: keeping the ones so far (at the necks: ") + e.what() + ")");
-            out.seconds.curves += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         }
+        necks.reset();
     }
+    // Built side by side: the layouts not kept, the scores and the waits add the wall time past the
+    // kept one's own (time spent on the layout curves).
+    out.seconds.curves += std::max(0.0, since(after_cycles) - seconds_after_cycles(out.seconds));
     return out;
 }
 
