@@ -43,31 +43,33 @@ struct Split {
 };
 
 Split split_by(const Surface& s, const Cut& cut, int piece, const Builder& b, const Cycle& loop,
-               std::unordered_set<std::uint64_t> walls) {
-    for (size_t i = 0; i < loop.size(); ++i) walls.insert(edge_key(loop[i], loop[(i + 1) % loop.size()]));
+               const std::unordered_set<std::uint64_t>& walls) {
+    std::unordered_set<std::uint64_t> own;  // the loop's edges; `walls` has the earlier loops'
+    for (size_t i = 0; i < loop.size(); ++i) own.insert(edge_key(loop[i], loop[(i + 1) % loop.size()]));
     std::vector<char> seen(cut.label.size(), 0);
     std::vector<int> stack{triangle_beside(s, loop, 0)}, side;
     seen[stack[0]] = 1;
+    const int other_side = triangle_beside(s, loop, 1);  // reached: the loop does not separate
     while (!stack.empty()) {
         const int t = stack.back();
         stack.pop_back();
         side.push_back(t);
         for (int k = 0; k < 3; ++k) {
             const int h = 3 * t + k;
-            if (walls.count(edge_key(s.from(h), s.to(h)))) continue;
             const int u = s.twin(h) / 3;
-            if (!seen[u] && cut.label[u] == piece) seen[u] = 1, stack.push_back(u);
+            if (seen[u] || cut.label[u] != piece) continue;
+            const std::uint64_t e = edge_key(s.from(h), s.to(h));
+            if (own.count(e) || walls.count(e)) continue;
+            if (u == other_side) return {};
+            seen[u] = 1, stack.push_back(u);
         }
     }
     Split out;
-    if (seen[triangle_beside(s, loop, 1)]) return out;
     out.separating = true;
     out.holes0 = 1;
     if (const auto it = cut.holes.find(piece); it != cut.holes.end())
         for (const Hole& hole : it->second) out.holes0 += seen[triangle_beside(s, b.curves_[hole.curve], hole.side)];
-    std::vector<int> label(cut.label.size(), 0);
-    for (int t : side) label[t] = 1;
-    out.chi0 = piece_euler_characteristic(s, label, 1);
+    out.chi0 = euler_characteristic(s, side, [&seen](int t) { return seen[t] != 0; });
     return out;
 }
 

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <map>
 #include <numeric>
@@ -90,24 +91,26 @@ std::vector<char> outside_piece(const Surface& s, const std::vector<int>& label,
     return out;
 }
 
-int piece_euler_characteristic(const Surface& s, const std::vector<int>& label, int piece) {
-    std::vector<int> vertices;
-    std::vector<std::uint64_t> edges;
-    long faces = 0;
-    for (int t = 0; t < static_cast<int>(label.size()); ++t) {
-        if (label[t] != piece) continue;
-        ++faces;
-        const Triangle& tri = s.mesh().triangles[t];
+int euler_characteristic(const Surface& s, const std::vector<int>& triangles, const std::function<bool(int)>& in) {
+    // V - E + F by counting, not sorting (the neck search asks for it at every candidate loop):
+    // each edge has two sides, so E = (3F + the sides whose other side is not one of them) / 2.
+    std::vector<char> counted(s.num_vertices(), 0);
+    long vertices = 0, open_sides = 0;
+    for (int t : triangles)
         for (int k = 0; k < 3; ++k) {
-            vertices.push_back(tri[k]);
-            edges.push_back(edge_key(tri[k], tri[(k + 1) % 3]));
+            const int v = s.mesh().triangles[t][k];
+            if (!counted[v]) counted[v] = 1, ++vertices;
+            if (!in(s.twin(3 * t + k) / 3)) ++open_sides;
         }
-    }
-    std::sort(vertices.begin(), vertices.end());
-    std::sort(edges.begin(), edges.end());
-    const long v = std::unique(vertices.begin(), vertices.end()) - vertices.begin();
-    const long e = std::unique(edges.begin(), edges.end()) - edges.begin();
-    return static_cast<int>(v - e + faces);
+    const long faces = static_cast<long>(triangles.size());
+    return static_cast<int>(vertices - (3 * faces + open_sides) / 2 + faces);
+}
+
+int piece_euler_characteristic(const Surface& s, const std::vector<int>& label, int piece) {
+    std::vector<int> triangles;
+    for (int t = 0; t < static_cast<int>(label.size()); ++t)
+        if (label[t] == piece) triangles.push_back(t);
+    return euler_characteristic(s, triangles, [&](int t) { return label[t] == piece; });
 }
 
 std::vector<int> slice(const std::vector<int>& v, int from, int to) {  // [from, to)

@@ -93,6 +93,10 @@ std::vector<char> outside_piece(const Surface& s, const std::vector<int>& label,
 /// included: 0 for an annulus, -2 for a four-holed sphere or a torus with two holes.
 int piece_euler_characteristic(const Surface& s, const std::vector<int>& label, int piece);
 
+/// The Euler characteristic V - E + F of the triangles listed (each once), `in(t)` telling whether
+/// triangle t is one of them. On a closed manifold surface.
+int euler_characteristic(const Surface& s, const std::vector<int>& triangles, const std::function<bool(int)>& in);
+
 /// Elements [from, to) of v, clamped to its range.
 std::vector<int> slice(const std::vector<int>& v, int from, int to);
 
