@@ -216,10 +216,10 @@ double seconds_after_cycles(const QuadLayout::Seconds& s) {
 // options.score the lower score wins (kept's is scored once: *kept_score holds it); where there is
 // none, where the scores differ by no more than options.score_margin of kept's, or where scoring
 // fails (InternalError), the candidate wins when both its patch area max/min and its corner angle
-// deviation are smaller. Says the figures and the choice; the scores' time is added to *seconds.
+// deviation are smaller. Says the figures, the scores' time and the choice.
 bool candidate_is_better(const QuadLayout& kept, const QuadLayout& candidate, const std::string& kept_name,
                          const std::string& candidate_name, const QuadLayoutOptions& options,
-                         std::optional<double>* kept_score, double* seconds, const Say& say) {
+                         std::optional<double>* kept_score, const Say& say) {
     const LayoutQuality &a = kept.quality, &b = candidate.quality;
     char line[400];
     std::snprintf(line, sizeof line,
@@ -245,7 +245,6 @@ bool candidate_is_better(const QuadLayout& kept, const QuadLayout& candidate, co
         } catch (const InternalError& e) {  // the score's own failure: the rule chooses
             why += std::string("; not scored (") + e.what() + "), so by those";
         }
-        *seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     }
     say(why + "; keeping " + (better ? candidate_name : kept_name));
     return better;
@@ -321,9 +320,8 @@ QuadLayout layout_of_better_s_cycles(const Mesh& input, const Cycles& cycles,
         try {
             for (const std::string& m : other->messages) say(m);
             if (other->error) std::rethrow_exception(other->error);
-            double scoring = 0;  // within the wall time added below
             if (candidate_is_better(out, *other->layout, "the handle loops'", "Algorithm 1's", options, &out_score,
-                                    &scoring, say))
+                                    say))
                 out = std::move(*other->layout);
         } catch (const InternalError& e) {
             say(std::string("S-cycles: keeping the handle loops' (Algorithm 1's: ") + e.what() + ")");
@@ -344,9 +342,7 @@ QuadLayout layout_of_better_s_cycles(const Mesh& input, const Cycles& cycles,
         try {
             for (const std::string& m : necks->messages) say(m);
             if (necks->error) std::rethrow_exception(necks->error);
-            double scoring = 0;
-            if (candidate_is_better(out, *necks->layout, "those kept so far", "the necks'", options, &out_score,
-                                    &scoring, say))
+            if (candidate_is_better(out, *necks->layout, "those kept so far", "the necks'", options, &out_score, say))
                 out = std::move(*necks->layout);
         } catch (const InternalError& e) {  // OverBudget and NoNecks too
             say(std::string("S-cycles: keeping the ones so far (at the necks: ") + e.what() + ")");
