@@ -8,8 +8,11 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <atomic>
+#include <chrono>
 #include <random>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "common/blas_threads.h"
@@ -206,6 +209,38 @@ TEST(ScopedBlasThreads, SetsTheCountAndRestoresIt) {
         EXPECT_EQ(get(), 2);
     }
     EXPECT_EQ(get(), 1);
+}
+
+TEST(ScopedBlasThreads, ScopesOnTwoThreadsTakeTurns) {
+    // The layout builds its constructions in threads of their own and scores them with fits
+    // meanwhile: a scope asking for 1 thread and one asking for 2 must not see each other's count.
+    const SetThreads set = openblas_set();
+    const GetThreads get = openblas_get();
+    if (!set || !get) GTEST_SKIP() << "the BLAS of this process is not OpenBLAS: there is no thread count to pin";
+    set(3);
+    std::atomic<bool> inside{false};
+    std::atomic<int> seen_by_second{-1};
+    std::thread second;
+    {
+        const quadcage::detail::ScopedBlasThreads one(1);
+        second = std::thread([&] {
+            inside.store(true);
+            const quadcage::detail::ScopedBlasThreads two(2);  // waits for `one` to end
+            seen_by_second.store(get());
+        });
+        while (!inside.load()) std::this_thread::yield();
+        // The second thread is blocked in its constructor, so the count stays 1 here.
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));
+        EXPECT_EQ(get(), 1);
+        EXPECT_EQ(seen_by_second.load(), -1) << "the second scope began inside the first";
+        {
+            const quadcage::detail::ScopedBlasThreads nested(1);  // a thread may nest its own
+            EXPECT_EQ(get(), 1);
+        }
+    }
+    second.join();
+    EXPECT_EQ(seen_by_second.load(), 2);
+    EXPECT_EQ(get(), 3);
 }
 
 TEST(ScopedBlasThreads, TheFitEndsInTheSameBitsWhateverBlasThreadsTheProcessHas) {
