@@ -8,9 +8,11 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <condition_variable>
 #include <cstdio>
 #include <exception>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <thread>
 
@@ -176,11 +178,32 @@ struct Speculation {
         cancel.store(true);
         if (thread.joinable()) thread.join();
     }
+    // Says what it has said so far and, as it goes on, what it says next, until it ends: the
+    // messages of a layout that is wanted, in their order, live while it is awaited.
+    void finish(const Say& say) {
+        for (size_t said = 0;;) {
+            std::vector<std::string> next;
+            bool ended = false;
+            {
+                std::unique_lock<std::mutex> lock(mutex);
+                changed.wait(lock, [&] { return done || messages.size() > said; });
+                next.assign(messages.begin() + static_cast<long>(said), messages.end());
+                said = messages.size();
+                ended = done;
+            }
+            for (const std::string& m : next) say(m);  // not under the lock: say() may take its time
+            if (ended) break;
+        }
+        thread.join();
+    }
 
     const long long max_vertices;  // the vertex budget it was built with
     std::thread thread;
     std::atomic<bool> cancel{false};
-    std::vector<std::string> messages;  // its progress messages, prefixed, not yet said
+    std::mutex mutex;  // guards messages and done
+    std::condition_variable changed;
+    std::vector<std::string> messages;  // its progress messages, prefixed
+    bool done = false;
     std::optional<QuadLayout> layout;
     std::exception_ptr error;  // what build_variant threw (nothing if it was cancelled)
 };
@@ -194,7 +217,11 @@ std::unique_ptr<Speculation> speculate(const Mesh& input, const Cycles& cycles, 
     sp->thread = std::thread([p, &input, &cycles, &options, handle_loops, necks, prefix = std::move(prefix)] {
         const Say held = [p, &prefix](const std::string& m) {
             if (p->cancel.load()) throw Speculation::Cancelled{};
-            p->messages.push_back(prefix + m);
+            {
+                const std::lock_guard<std::mutex> lock(p->mutex);
+                p->messages.push_back(prefix + m);
+            }
+            p->changed.notify_one();
         };
         try {
             bool unused = false;
@@ -203,6 +230,11 @@ std::unique_ptr<Speculation> speculate(const Mesh& input, const Cycles& cycles, 
         } catch (...) {
             p->error = std::current_exception();
         }
+        {
+            const std::lock_guard<std::mutex> lock(p->mutex);
+            p->done = true;
+        }
+        p->changed.notify_one();
     });
     return sp;
 }
@@ -257,8 +289,9 @@ QuadLayout layout_of_better_s_cycles(const Mesh& input, const Cycles& cycles,
     // Algorithm 1's layout and the necks' for the comparisons below depend only on the orthogonal
     // system and the bound, so each is built in a thread of its own while the handle loops' layout
     // is built here, and they are scored here while the others finish. Their progress messages are
-    // held back and said once each is known to be wanted (else it is stopped at its next message
-    // and dropped), so the messages and the result are those of building them one after the other.
+    // held back until each is known to be wanted (else it is stopped at its next message and
+    // dropped), then said, and said as they come while it is awaited (Speculation::finish()), so the
+    // messages and the result are those of building them one after the other.
     // (Their factorisations and the scores' take turns: blas_threads.h.) On the 2-core machine,
     // with the necks' built after the others, botijo's layout took 23.7 s and boot's 29.8 s; built
     // beside them, 21.9 s and 27.0 s, the same layouts.
@@ -316,9 +349,8 @@ QuadLayout layout_of_better_s_cycles(const Mesh& input, const Cycles& cycles,
         // decides (a level-1 fit in the CLI: with its margin it kept the lowest level-3 RMS on 10
         // of 14 meshes, the rule on 6; the README's "The S-cycles chosen by a level-1 fit"). It may
         // refine no more than the bound.
-        other->thread.join();
+        other->finish(say);
         try {
-            for (const std::string& m : other->messages) say(m);
             if (other->error) std::rethrow_exception(other->error);
             if (candidate_is_better(out, *other->layout, "the handle loops'", "Algorithm 1's", options, &out_score,
                                     say))
@@ -338,9 +370,16 @@ QuadLayout layout_of_better_s_cycles(const Mesh& input, const Cycles& cycles,
         // handle loops' on boot (the necks' patch area max/min is the larger there, 1.16e3 against
         // 1.11e3); the level-1 fit score keeps the necks'. Built within the same bound (OverBudget
         // past it).
-        necks->thread.join();
+        if (options.score && !out_score) {
+            // Scored while the necks' layout is still being built (its score is the same whenever it
+            // is taken); a failure is left to candidate_is_better(), which says it.
+            try {
+                out_score = options.score(out);
+            } catch (const InternalError&) {
+            }
+        }
+        necks->finish(say);
         try {
-            for (const std::string& m : necks->messages) say(m);
             if (necks->error) std::rethrow_exception(necks->error);
             if (candidate_is_better(out, *necks->layout, "those kept so far", "the necks'", options, &out_score, say))
                 out = std::move(*necks->layout);
