@@ -244,14 +244,36 @@ double seconds_after_cycles(const QuadLayout::Seconds& s) {
     return s.curves + s.parameterization + s.verification;
 }
 
+// options.score of a layout: its value once computed, or the InternalError it threw (not asked
+// again: a score may take seconds).
+struct Score {
+    std::optional<double> value;
+    std::exception_ptr failure;
+
+    // Computes it unless it was computed or failed before.
+    void of(const QuadLayout& layout, const QuadLayoutOptions& options) {
+        if (value || failure) return;
+        try {
+            value = options.score(layout);
+        } catch (const InternalError&) {
+            failure = std::current_exception();
+        }
+    }
+    double get() const {  // the value; rethrows the failure
+        if (failure) std::rethrow_exception(failure);
+        return *value;
+    }
+};
+
 // Whether `candidate`, a layout of other S-cycles, is to be kept instead of `kept`. With
-// options.score the lower score wins (kept's is scored once: *kept_score holds it); where there is
-// none, where the scores differ by no more than options.score_margin of kept's, or where scoring
-// fails (InternalError), the candidate wins when both its patch area max/min and its corner angle
-// deviation are smaller. Says the figures, the scores' time and the choice.
+// options.score the lower score wins (kept's is scored once: *kept_score holds it, and the
+// candidate's once it is kept); where there is none, where the scores differ by no more than
+// options.score_margin of kept's, or where scoring fails (InternalError), the candidate wins when
+// both its patch area max/min and its corner angle deviation are smaller. Says the figures, the
+// scores' time and the choice.
 bool candidate_is_better(const QuadLayout& kept, const QuadLayout& candidate, const std::string& kept_name,
-                         const std::string& candidate_name, const QuadLayoutOptions& options,
-                         std::optional<double>* kept_score, const Say& say) {
+                         const std::string& candidate_name, const QuadLayoutOptions& options, Score* kept_score,
+                         const Say& say) {
     const LayoutQuality &a = kept.quality, &b = candidate.quality;
     char line[400];
     std::snprintf(line, sizeof line,
@@ -262,22 +284,25 @@ bool candidate_is_better(const QuadLayout& kept, const QuadLayout& candidate, co
     std::string why = line;
     bool better = b.patch_area_max_over_min < a.patch_area_max_over_min &&
                   b.corner_angle_mean_deviation_deg < a.corner_angle_mean_deviation_deg;
+    Score candidate_score;  // left unscored where kept's fails
     if (options.score) {
         const auto start = std::chrono::steady_clock::now();
         try {
-            if (!*kept_score) *kept_score = options.score(kept);
-            const double s = options.score(candidate), k = **kept_score;
+            kept_score->of(kept, options);
+            const double k = kept_score->get();
+            candidate_score.of(candidate, options);
+            const double s = candidate_score.get();
             const bool decides = std::abs(s - k) > options.score_margin * k;
             if (decides) better = s < k;
             std::snprintf(line, sizeof line, "; scores %.4g and %.4g (%.1f s)%s", k, s,
                           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
                           decides ? "" : ", too close to decide, so by those");
             why += line;
-            if (better) *kept_score = s;
         } catch (const InternalError& e) {  // the score's own failure: the rule chooses
             why += std::string("; not scored (") + e.what() + "), so by those";
         }
     }
+    if (better) *kept_score = candidate_score;
     say(why + "; keeping " + (better ? candidate_name : kept_name));
     return better;
 }
@@ -312,7 +337,7 @@ QuadLayout layout_of_better_s_cycles(const Mesh& input, const Cycles& cycles,
         if (*sp) (*sp)->stop(), sp->reset();
     };
     bool from_handle_loops = false;
-    std::optional<double> out_score;  // options.score(out), once computed
+    Score out_score;  // options.score(out), once computed
     QuadLayout out = [&] {
         try {
             return build_variant(input, cycles, options, options.s_cycles_from_handle_loops, false, 0, say,
@@ -370,14 +395,9 @@ QuadLayout layout_of_better_s_cycles(const Mesh& input, const Cycles& cycles,
         // handle loops' on boot (the necks' patch area max/min is the larger there, 1.16e3 against
         // 1.11e3); the level-1 fit score keeps the necks'. Built within the same bound (OverBudget
         // past it).
-        if (options.score && !out_score) {
-            // Scored while the necks' layout is still being built (its score is the same whenever it
-            // is taken); a failure is left to candidate_is_better(), which says it.
-            try {
-                out_score = options.score(out);
-            } catch (const InternalError&) {
-            }
-        }
+        // Scored while the necks' layout is still being built (its score is the same whenever it is
+        // taken; a failure is said by candidate_is_better()).
+        if (options.score) out_score.of(out, options);
         necks->finish(say);
         try {
             if (necks->error) std::rethrow_exception(necks->error);
