@@ -389,7 +389,8 @@ std::optional<std::vector<char>> pants_matching(const std::vector<std::array<int
 }
 
 std::optional<std::vector<int>> neck_s_cycles(Builder& b, int g, const Say& say) {
-    if (2 * g - 2 > kMaxMatchedPants) return std::nullopt;
+    static_assert(2 * kMaxNeckGenus - 2 <= kMaxMatchedPants, "the pants of the highest genus tried are matched");
+    if (g > kMaxNeckGenus) return std::nullopt;
     Builder w = b;
     PantsSearch search(w, g);
     search.seed();

@@ -330,7 +330,7 @@ QuadLayout layout_of_better_s_cycles(const Mesh& input, const Cycles& cycles,
         const long long max_vertices =
             input.num_vertices() + vertices_added_bound(input.num_vertices(), 8 * g - 8);
         other = speculate(input, cycles, options, false, false, max_vertices, "Algorithm 1's S-cycles: ");
-        if (options.s_cycles_from_necks)
+        if (options.s_cycles_from_necks && g <= detail::kMaxNeckGenus)  // else there is none to build
             necks = speculate(input, cycles, options, true, true, max_vertices, "S-cycles at the necks: ");
     }
     auto drop = [](std::unique_ptr<Speculation>* sp) {

@@ -159,8 +159,12 @@ bool tube_loops(Builder& w, const std::vector<int>& loops, double unit, std::vec
 /// Empty if there is no perfect matching.
 std::optional<std::vector<char>> pants_matching(const std::vector<std::array<int, 2>>& ends,
                                                 const std::vector<double>& lengths, int pants);
+/// The highest genus neck_s_cycles() tries: its 2g - 2 pairs of pants are matched exactly over
+/// subsets (pants_matching(), at most 22).
+inline constexpr int kMaxNeckGenus = 12;
 /// S-cycles round the 2g - 2 shortest loops of a pants decomposition that pair into T-shirts
-/// (neck_s_cycles.cpp); b gets them. Empty (b unchanged) where none is found.
+/// (neck_s_cycles.cpp); b gets them. Empty (b unchanged) where none is found, and for g above
+/// kMaxNeckGenus.
 std::optional<std::vector<int>> neck_s_cycles(Builder& b, int g, const Say& say);
 
 /// The chain of T-shirts over a body's holes (gap[i][j]: the distance in the body from hole i to
