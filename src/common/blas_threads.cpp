@@ -2,6 +2,11 @@
 
 #include <dlfcn.h>
 
+#include <condition_variable>
+#include <mutex>
+
+#include "quadcage/core/errors.h"
+
 namespace quadcage::detail {
 
 namespace {
@@ -21,26 +26,55 @@ GetThreads get_threads() {
     return f;
 }
 
-std::recursive_mutex& turns() {
-    static std::recursive_mutex m;
-    return m;
+// The scopes open in the process: how many, the count they share, and OpenBLAS's count before
+// the first of them (0: nothing to restore).
+struct Turns {
+    std::mutex mutex;
+    std::condition_variable closed;  // notified when the last scope closes
+    int open = 0, threads = 0, previous = 0;
+};
+
+Turns& turns() {
+    static Turns t;
+    return t;
 }
+
+thread_local int open_here = 0;  // scopes this thread has open
 
 }  // namespace
 
-ScopedBlasThreads::ScopedBlasThreads(int threads) : turn_(turns()) {
-    const SetThreads set = set_threads();
-    const GetThreads get = get_threads();
-    if (!set || !get) return;
-    previous_ = get();
-    if (previous_ != threads)
-        set(threads);
-    else
-        previous_ = 0;
+ScopedBlasThreads::ScopedBlasThreads(int threads) {
+    Turns& t = turns();
+    std::unique_lock<std::mutex> lock(t.mutex);
+    if (open_here > 0) {
+        QC_CHECK(t.threads == threads, "ScopedBlasThreads: a scope nested in one of another thread count");
+    } else {
+        t.closed.wait(lock, [&] { return t.open == 0 || t.threads == threads; });
+    }
+    if (t.open == 0) {
+        t.threads = threads;
+        t.previous = 0;
+        const SetThreads set = set_threads();
+        const GetThreads get = get_threads();
+        if (set && get) {
+            const int now = get();
+            if (now != threads) t.previous = now, set(threads);
+        }
+    }
+    ++t.open;
+    ++open_here;
 }
 
 ScopedBlasThreads::~ScopedBlasThreads() {
-    if (previous_ > 0) set_threads()(previous_);
+    Turns& t = turns();
+    {
+        const std::lock_guard<std::mutex> lock(t.mutex);
+        --open_here;
+        if (--t.open > 0) return;
+        if (t.previous > 0) set_threads()(t.previous);
+        t.previous = 0;
+    }
+    t.closed.notify_all();
 }
 
 }  // namespace quadcage::detail

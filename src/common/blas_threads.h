@@ -13,8 +13,6 @@
 // time the result was the same with the process started on one CPU (taskset), with
 // OPENBLAS_NUM_THREADS=1 and with 8.
 
-#include <mutex>
-
 namespace quadcage::detail {
 
 /// BLAS threads of the factorisations (the fit's small ones, under 1e9 flops, run on one:
@@ -23,21 +21,18 @@ inline constexpr int kBlasThreads = 2;
 
 /// Sets OpenBLAS's thread count to `threads` for the object's lifetime and restores it after. Does
 /// nothing to the count when the BLAS in the process is not OpenBLAS (reference BLAS and ATLAS have
-/// no threads to set). OpenBLAS's count is process-wide, so the scopes of the whole process take
-/// turns: a scope waits until no other thread holds one (a thread may nest its own). Each
-/// factorisation then runs on the count it asked for, whatever runs beside it: the layout's
-/// constructions, built side by side, and the fits that score them (quad_layout.cpp) keep their
-/// bits. Keep the scopes round the BLAS calls alone.
+/// no threads to set). OpenBLAS's count is process-wide, so the scopes of the whole process share it
+/// in turns: scopes asking for the same count run together, and a scope asking for another count
+/// waits until none is open. Each factorisation then runs on the count it asked for, whatever runs
+/// beside it: the layout's constructions, built side by side, and the fits that score them
+/// (quad_layout.cpp) keep their bits. A thread may nest scopes of the count it holds (another count
+/// there would wait for itself: InternalError). Keep the scopes round the BLAS calls alone.
 class ScopedBlasThreads {
 public:
     explicit ScopedBlasThreads(int threads = kBlasThreads);
     ~ScopedBlasThreads();
     ScopedBlasThreads(const ScopedBlasThreads&) = delete;
     ScopedBlasThreads& operator=(const ScopedBlasThreads&) = delete;
-
-private:
-    std::unique_lock<std::recursive_mutex> turn_;  ///< The process's BLAS scopes, one thread at a time.
-    int previous_ = 0;  ///< 0: nothing to restore.
 };
 
 }  // namespace quadcage::detail

@@ -213,14 +213,15 @@ TEST(ScopedBlasThreads, SetsTheCountAndRestoresIt) {
 
 TEST(ScopedBlasThreads, ScopesOnTwoThreadsTakeTurns) {
     // The layout builds its constructions in threads of their own and scores them with fits
-    // meanwhile: a scope asking for 1 thread and one asking for 2 must not see each other's count.
+    // meanwhile: a scope asking for 1 thread and one asking for 2 must not see each other's count;
+    // two asking for the same count may run together.
     const SetThreads set = openblas_set();
     const GetThreads get = openblas_get();
     if (!set || !get) GTEST_SKIP() << "the BLAS of this process is not OpenBLAS: there is no thread count to pin";
     set(3);
     std::atomic<bool> inside{false};
-    std::atomic<int> seen_by_second{-1};
-    std::thread second;
+    std::atomic<int> seen_by_second{-1}, seen_by_third{-1};
+    std::thread second, third;
     {
         const quadcage::detail::ScopedBlasThreads one(1);
         second = std::thread([&] {
@@ -228,15 +229,22 @@ TEST(ScopedBlasThreads, ScopesOnTwoThreadsTakeTurns) {
             const quadcage::detail::ScopedBlasThreads two(2);  // waits for `one` to end
             seen_by_second.store(get());
         });
+        third = std::thread([&] {
+            const quadcage::detail::ScopedBlasThreads also_one(1);  // runs beside `one`
+            seen_by_third.store(get());
+        });
+        third.join();
+        EXPECT_EQ(seen_by_third.load(), 1);
         while (!inside.load()) std::this_thread::yield();
         // The second thread is blocked in its constructor, so the count stays 1 here.
         std::this_thread::sleep_for(std::chrono::milliseconds(50));
         EXPECT_EQ(get(), 1);
         EXPECT_EQ(seen_by_second.load(), -1) << "the second scope began inside the first";
         {
-            const quadcage::detail::ScopedBlasThreads nested(1);  // a thread may nest its own
+            const quadcage::detail::ScopedBlasThreads nested(1);  // a thread may nest its own count
             EXPECT_EQ(get(), 1);
         }
+        EXPECT_THROW(quadcage::detail::ScopedBlasThreads other(2), InternalError);  // would wait for itself
     }
     second.join();
     EXPECT_EQ(seen_by_second.load(), 2);
