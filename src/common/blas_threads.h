@@ -23,10 +23,12 @@ inline constexpr int kBlasThreads = 2;
 /// nothing to the count when the BLAS in the process is not OpenBLAS (reference BLAS and ATLAS have
 /// no threads to set). OpenBLAS's count is process-wide, so the scopes of the whole process share it
 /// in turns: scopes asking for the same count run together, and a scope asking for another count
-/// waits until none is open. Each factorisation then runs on the count it asked for, whatever runs
-/// beside it: the layout's constructions, built side by side, and the fits that score them
-/// (quad_layout.cpp) keep their bits. A thread may nest scopes of the count it holds (another count
-/// there would wait for itself: InternalError). Keep the scopes round the BLAS calls alone.
+/// waits until none is open (no queue: it waits while scopes of the open count keep overlapping;
+/// the layout's threads open one-thread scopes a solve at a time, and a level-1 score's
+/// factorisations are one-thread ones too). Each factorisation then runs on the count it asked for,
+/// whatever runs beside it: the layout's constructions, built side by side, and the fits that score
+/// them (quad_layout.cpp) keep their bits. A thread may nest scopes of the count it holds (another
+/// count there would wait for itself: InternalError). Keep the scopes round the BLAS calls alone.
 class ScopedBlasThreads {
 public:
     explicit ScopedBlasThreads(int threads = kBlasThreads);
