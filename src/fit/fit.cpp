@@ -1006,6 +1006,7 @@ FitResult fit_from(const Source& src, const FitOptions& options) {
             ctx.progress("level " + std::to_string(level) + ": worse than level " + std::to_string(level - 1) +
                          ", fitting again from the refined previous fit");
             const LevelState parametric_fit = state;
+            const LevelState warm_start = warm;
             ErrorMeasurement mw;
             LevelReport warm_rep = run(warm, warm_new_points, &mw);
             warm_rep.seconds.evaluation += rep.seconds.evaluation;
@@ -1021,6 +1022,21 @@ FitResult fit_from(const Source& src, const FitOptions& options) {
                 rep.stop_reason += " (from the parametric start; the refined previous fit measured worse)";
                 state = parametric_fit;
                 surface->set_points(topo.expand(state.vars));
+            }
+            if (!no_worse(m)) {
+                // Neither fit measured as well as the previous level (at the input's facets both
+                // end at the same floor, and the rounds trade one error for the other): the
+                // previous fit itself, refined, is the same surface.
+                surface->set_points(topo.expand(warm_start.vars));
+                ErrorMeasurement m0 = detail::measure(measured, *surface, search_level, ctx.measure_options(), &mt);
+                if (m0.relative.rms <= m.relative.rms) {
+                    state = warm_start;
+                    m = m0;
+                    rep.iterations = 0;
+                    rep.stop_reason = "both fits measured worse than the previous level: kept the refined previous fit";
+                } else {
+                    surface->set_points(topo.expand(state.vars));
+                }
             }
         }
         rep.unfitted_relative_rms = unfitted_rms;
