@@ -477,14 +477,8 @@ LevelReport fit_level(const Context& ctx, const LevelTopology& topo, subdiv::Lim
     const std::vector<Combo> laplacian = laplacian_rows(topo);
     const std::vector<subdiv::FacePoint> s_params = surface_samples(surface.num_faces(), o.surface_samples_per_face);
     const int nd = static_cast<int>(state.data.size()), ns = static_cast<int>(s_params.size());
-    // The surface samples keep their (face, u, v) all level: their stencils, once.
-    std::vector<subdiv::LimitStencil> surf_stencil(ns);
-    std::vector<Combo> surf_combo(ns);
-    parallel_for(ns, ctx.threads, [&](int i) {
-        surf_stencil[i] = surface.stencil(s_params[i]);
-        surf_combo[i] = topo.compose(surf_stencil[i].indices, surf_stencil[i].position_weights);
-    });
-    // Their closest input points of the previous round: the distance to the old closest point
+    const bool direct = o.solver == FitSolver::Direct;
+    // The surface samples' closest input points of the previous round: the distance to the old closest point
     // bounds the search for the new one.
     std::vector<accel::ClosestHit> hits;
     // Ceres minimises 1/2 sum |r|^2: weight 1/N per data point, beta/N per surface sample on
@@ -504,7 +498,7 @@ LevelReport fit_level(const Context& ctx, const LevelTopology& topo, subdiv::Lim
     // Laplacian row.
     const int nf = surface.num_faces();
     std::optional<detail::NormalEquations> normal;
-    if (o.solver == FitSolver::Direct) {
+    if (direct) {
         std::vector<std::vector<int>> cliques(nf + laplacian.size());
         parallel_for(nf, ctx.threads, [&](int f) {
             const subdiv::LimitStencil st = surface.stencil({f, 0.5, 0.5});
@@ -518,15 +512,51 @@ LevelReport fit_level(const Context& ctx, const LevelTopology& topo, subdiv::Lim
     if (normal)
         for (int f = 0; f < nf; ++f) clique_size[f] = static_cast<int>(normal->clique(f).size());
     for (int i = 0; i < ns; ++i) sample_face[i] = s_params[i].face;
-    std::optional<FaceOrderedWeights> surf_packed;
-    if (normal) {
+    // The surface samples keep their (face, u, v) all level, and so their weights on the variables:
+    // Ceres' cost functions take the position weights as combinations (and each round evaluates
+    // the samples' limit points afresh); the direct solver keeps the position and derivative
+    // weights packed by face, in the order of the face's clique. Kept whole, the samples' stencils
+    // took more memory than all else of a fit with 64 samples a face.
+    std::optional<FaceOrderedWeights> surf_packed, surf_du, surf_dv;
+    if (direct) {
         surf_packed.emplace(sample_face, clique_size);
-        parallel_for(ns, ctx.threads, [&](int i) {
-            check_clique(*normal, s_params[i].face, surf_combo[i]);
-            double* w = surf_packed->of_point(i);
-            for (const auto& vw : surf_combo[i]) *w++ = vw.second;
-        });
+        surf_du.emplace(sample_face, clique_size);
+        surf_dv.emplace(sample_face, clique_size);
     }
+    std::vector<Combo> surf_combo(direct ? 0 : ns);
+    parallel_for(ns, ctx.threads, [&](int i) {
+        thread_local subdiv::LimitStencil s;  // storage reused from sample to sample
+        surface.stencil(s_params[i], &s);
+        Combo c = topo.compose(s.indices, s.position_weights);
+        if (!direct) {
+            surf_combo[i] = std::move(c);
+            return;
+        }
+        const int face = s_params[i].face;
+        check_clique(*normal, face, c);
+        double* w = surf_packed->of_point(i);
+        for (const auto& vw : c) *w++ = vw.second;
+        for (const auto& [packed, weights] : {std::pair{&*surf_du, &s.du_weights}, std::pair{&*surf_dv, &s.dv_weights}}) {
+            const Combo d = topo.compose(s.indices, *weights);
+            check_clique(*normal, face, d);
+            double* out = packed->of_point(i);
+            for (const auto& vw : d) *out++ = vw.second;
+        }
+    });
+    // A sample's limit point (position and derivatives) with the variables `vars`.
+    auto surface_point = [&](int i, const std::vector<Vec3>& vars) {
+        if (!direct) return surface.evaluate(s_params[i]);
+        subdiv::LimitPoint e;
+        const std::vector<int>& clique = normal->clique(s_params[i].face);
+        const double *wp = surf_packed->of_point(i), *wu = surf_du->of_point(i), *wv = surf_dv->of_point(i);
+        for (size_t a = 0; a < clique.size(); ++a) {
+            const Vec3& x = vars[clique[a]];
+            e.position += x * wp[a];
+            e.du += x * wu[a];
+            e.dv += x * wv[a];
+        }
+        return e;
+    };
     // Once the data RMS stalls, one last round with the final (smallest) smoothness weight, so an
     // early stop does not leave the surface biased by a large smoothness term.
     bool final_round = false;
@@ -544,7 +574,6 @@ LevelReport fit_level(const Context& ctx, const LevelTopology& topo, subdiv::Lim
         const double near2 = std::pow(kNearDistance * ctx.diagonal, 2);
         // Stencils of the data correspondences and of the surface samples.
         clock = Clock::now();
-        const bool direct = o.solver == FitSolver::Direct;
         std::vector<Combo> data_combo(direct ? 0 : nd);
         std::optional<FaceOrderedWeights> data_packed;
         if (direct) {
@@ -580,7 +609,7 @@ LevelReport fit_level(const Context& ctx, const LevelTopology& topo, subdiv::Lim
             if (mu < 1 && dot(r, r) <= near2) data_normal[i] = e.normal;
         });
         parallel_for(ns, ctx.threads, [&](int i) {
-            const subdiv::LimitPoint e = limit_point(surface, surf_stencil[i]);
+            const subdiv::LimitPoint e = surface_point(i, state.vars);
             surf_pos[i] = e.position;
             surf_weight[i] = norm(cross(e.du, e.dv));
         });
