@@ -478,8 +478,8 @@ LevelReport fit_level(const Context& ctx, const LevelTopology& topo, subdiv::Lim
     const std::vector<subdiv::FacePoint> s_params = surface_samples(surface.num_faces(), o.surface_samples_per_face);
     const int nd = static_cast<int>(state.data.size()), ns = static_cast<int>(s_params.size());
     const bool direct = o.solver == FitSolver::Direct;
-    // The surface samples' closest input points of the previous round: the distance to the old closest point
-    // bounds the search for the new one.
+    // The surface samples' closest input points of the previous round: the distance to the old
+    // closest point bounds the search for the new one.
     std::vector<accel::ClosestHit> hits;
     // Ceres minimises 1/2 sum |r|^2: weight 1/N per data point, beta/N per surface sample on
     // average (each is weighted by its share of the surface area), lambda/N per control point, so
@@ -536,7 +536,8 @@ LevelReport fit_level(const Context& ctx, const LevelTopology& topo, subdiv::Lim
         check_clique(*normal, face, c);
         double* w = surf_packed->of_point(i);
         for (const auto& vw : c) *w++ = vw.second;
-        for (const auto& [packed, weights] : {std::pair{&*surf_du, &s.du_weights}, std::pair{&*surf_dv, &s.dv_weights}}) {
+        for (const auto& [packed, weights] :
+             {std::pair{&*surf_du, &s.du_weights}, std::pair{&*surf_dv, &s.dv_weights}}) {
             const Combo d = topo.compose(s.indices, *weights);
             check_clique(*normal, face, d);
             double* out = packed->of_point(i);
@@ -1057,12 +1058,14 @@ FitResult fit_from(const Source& src, const FitOptions& options) {
                 // end at the same floor, and the rounds trade one error for the other): the
                 // previous fit itself, refined, is the same surface.
                 surface->set_points(topo.expand(warm_start.vars));
-                ErrorMeasurement m0 = detail::measure(measured, *surface, search_level, ctx.measure_options(), &mt);
+                const ErrorMeasurement m0 =
+                    detail::measure(measured, *surface, search_level, ctx.measure_options(), &mt);
                 if (m0.relative.rms <= m.relative.rms) {
                     state = warm_start;
                     m = m0;
                     rep.iterations = 0;
-                    rep.stop_reason = "both fits measured worse than the previous level: kept the refined previous fit";
+                    rep.stop_reason =
+                        "both fits measured worse than the previous level: kept the refined previous fit";
                 } else {
                     surface->set_points(topo.expand(state.vars));
                 }
