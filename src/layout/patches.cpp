@@ -422,13 +422,14 @@ void measure_quality(QuadLayout* layout) {
     for (const auto& p : layout->edge_paths)
         for (size_t i = 0; i + 1 < p.size(); ++i) total += norm(mesh.points[p[i + 1]] - mesh.points[p[i]]);
     qual.edge_length_over_sqrt_area = total / std::sqrt(area);
-    // Corner sector angles: directions to a point a little way along each layout edge, projected on
-    // the tangent plane, in the rotation order of the mesh; scaled to a full turn.
+    // Corner sector angles, as issue #20 defines them (and check_layout.py --quality measures them):
+    // the chord from the corner to the point a tenth of each layout edge's arc length along it,
+    // projected on the corner's tangent plane (area-weighted normal); the directions sorted by angle
+    // round the normal; each gap's deviation from 360 / degree.
     const Surface s(mesh);
-    const double reach = 0.05 * std::sqrt(area);
-    std::vector<std::vector<std::pair<int, Vec3>>> leaving(layout->cage.num_corners());
-    auto direction = [&](const std::vector<int>& path, double path_length) {
-        const double r = std::min(reach, 0.25 * path_length);
+    std::vector<std::vector<Vec3>> leaving(layout->cage.num_corners());
+    auto chord = [&](const std::vector<int>& path, double path_length) {
+        const double r = 0.1 * path_length;
         double run = 0;
         for (size_t i = 0; i + 1 < path.size(); ++i) {
             const double l = norm(mesh.points[path[i + 1]] - mesh.points[path[i]]);
@@ -447,36 +448,26 @@ void measure_quality(QuadLayout* layout) {
         for (size_t i = 0; i + 1 < p.size(); ++i) len += norm(mesh.points[p[i + 1]] - mesh.points[p[i]]);
         for (int end = 0; end < 2; ++end) {
             if (end == 1) std::reverse(p.begin(), p.end());
-            const int c = layout->cage.edges[e].corners[end];
-            leaving[c].push_back({p[1], direction(p, len)});
+            leaving[layout->cage.edges[e].corners[end]].push_back(chord(p, len));
         }
     }
     double dev_sum = 0;
     int dev_count = 0;
     for (int c = 0; c < layout->cage.num_corners(); ++c) {
-        const int v = layout->corner_vertex[c];
-        const std::vector<int> ring = s.ring(v);
-        auto& dirs = leaving[c];
-        std::sort(dirs.begin(), dirs.end(), [&](const auto& a, const auto& b) {
-            return std::find(ring.begin(), ring.end(), a.first) <
-                   std::find(ring.begin(), ring.end(), b.first);
-        });
-        const Vec3 nrm = vertex_normal(s, v);
+        const auto& dirs = leaving[c];
+        if (dirs.size() < 2) continue;
+        const Vec3 nrm = vertex_normal(s, layout->corner_vertex[c]);
+        const Vec3 axis = std::abs(nrm[0]) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
+        Vec3 e1 = cross(nrm, axis);
+        e1 = e1 / norm(e1);
+        const Vec3 e2 = cross(nrm, e1);
         std::vector<double> angle;
-        double sum = 0;
-        for (size_t k = 0; k < dirs.size(); ++k) {
-            Vec3 a = dirs[k].second, b = dirs[(k + 1) % dirs.size()].second;
-            a -= nrm * dot(a, nrm);
-            b -= nrm * dot(b, nrm);
-            double t = std::atan2(dot(cross(a, b), nrm), dot(a, b));
-            if (t < 0) t += 2 * kPi;
-            angle.push_back(t);
-            sum += t;
-        }
-        const double ideal = 360.0 / static_cast<double>(dirs.size());
-        for (double t : angle) {
-            const double deg = sum > 0 ? t * 360.0 / sum : ideal;
-            const double d = std::abs(deg - ideal);
+        for (const Vec3& d : dirs) angle.push_back(std::atan2(dot(d, e2), dot(d, e1)));
+        std::sort(angle.begin(), angle.end());
+        const double ideal = 2 * kPi / static_cast<double>(dirs.size());
+        for (size_t k = 0; k < angle.size(); ++k) {
+            const double gap = k + 1 < angle.size() ? angle[k + 1] - angle[k] : angle[0] + 2 * kPi - angle[k];
+            const double d = std::abs(gap - ideal) * 180.0 / kPi;
             dev_sum += d;
             ++dev_count;
             qual.corner_angle_max_deviation_deg = std::max(qual.corner_angle_max_deviation_deg, d);
