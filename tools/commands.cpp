@@ -173,6 +173,7 @@ void apply(const EmbeddingFlags& flags, layout::QuadLayoutOptions* options) {
     if (!flags.choose_by_shape) options->score = fit::level1_fit_score();
     options->edge_embedding_iterations = flags.edge_embedding;
     options->edge_embedding_max_vertices = flags.edge_embedding_max_vertices;
+    options->edge_embedding_cone_charts = flags.edge_embedding_cone_charts;
 }
 
 // The shortest of %.15g and %.17g that reads back as x.
@@ -205,6 +206,8 @@ std::vector<std::string> embedding_arguments(const EmbeddingFlags& flags) {
     if (flags.edge_embedding_max_vertices != defaults.edge_embedding_max_vertices)
         args.insert(args.end(),
                     {"--edge-embedding-max-vertices", std::to_string(flags.edge_embedding_max_vertices)});
+    if (flags.edge_embedding_cone_charts != defaults.edge_embedding_cone_charts)
+        args.insert(args.end(), {"--edge-embedding-cone-charts", exact_number(flags.edge_embedding_cone_charts)});
     return args;
 }
 

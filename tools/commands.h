@@ -42,6 +42,8 @@ struct EmbeddingFlags {
     int edge_embedding = quadcage::layout::QuadLayoutOptions{}.edge_embedding_iterations;
     /// --edge-embedding-max-vertices N: above this many layout-mesh vertices it is skipped
     int edge_embedding_max_vertices = quadcage::layout::QuadLayoutOptions{}.edge_embedding_max_vertices;
+    /// --edge-embedding-cone-charts S: the edge embedding's pull towards the corners' cone charts
+    double edge_embedding_cone_charts = quadcage::layout::QuadLayoutOptions{}.edge_embedding_cone_charts;
 };
 
 /// The flags as `layout`/`fit` arguments: only those that differ from the defaults.

@@ -39,7 +39,8 @@ void place_layout_edges(QuadLayout* layout, const QuadLayoutOptions& options, lo
         EdgeEmbeddingReport r;
         std::string why_not;
         try {
-            why_not = embed_layout_edges(out, options.edge_embedding_iterations, &e, &r);
+            why_not = embed_layout_edges(out, options.edge_embedding_iterations, &e, &r, kEdgeEmbeddingTolerance,
+                                         options.edge_embedding_cone_charts);
         } catch (const InternalError& error) {
             // The smoothing below still gives clean edges; a failure here is a bug to report, not
             // a reason to lose the layout.
@@ -51,7 +52,9 @@ void place_layout_edges(QuadLayout* layout, const QuadLayoutOptions& options, lo
                           "edge embedding: %d Newton steps (%s) on %d vertices, energy %.4g -> %.4g; %.2f s",
                           r.iterations, r.stopped.c_str(), r.variables, r.initial_energy, r.final_energy,
                           r.seconds);
-            say(line);
+            std::string said = line;
+            if (r.pulled > 0) said += "; " + std::to_string(r.pulled) + " of them pulled towards the cone charts";
+            say(said);
             measure_quality(&e);
             e.seconds = out.seconds;
             e.edges_smoothed = true;
@@ -59,19 +62,26 @@ void place_layout_edges(QuadLayout* layout, const QuadLayoutOptions& options, lo
             const long long added = e.mesh.num_vertices() - e.input_vertices;
             const double before = out.quality.patch_area_max_over_min,
                          after = e.quality.patch_area_max_over_min;
+            // With the cone charts, what the embedding is for is the corner angles.
+            const bool charts = options.edge_embedding_cone_charts > 0;
+            const double angle_before = out.quality.corner_angle_mean_deviation_deg,
+                         angle_after = e.quality.corner_angle_mean_deviation_deg;
             if (added > bound) {
                 why_not = "they add " + std::to_string(added) + " vertices, over the bound of " +
                           std::to_string(bound);
-            } else if (!(after < before)) {
+            } else if (!charts && !(after < before)) {
                 std::snprintf(line, sizeof line, "patch area max/min %.3g, not below %.3g", after, before);
+                why_not = line;
+            } else if (charts && !(angle_after < angle_before)) {
+                std::snprintf(line, sizeof line, "corner angle deviation %.1f deg, not below %.1f", angle_after,
+                              angle_before);
                 why_not = line;
             } else {
                 std::snprintf(
                     line, sizeof line,
                     "edge embedding: keeping the embedded edges: patch area max/min %.3g (was %.3g), "
                     "corner angle deviation %.1f deg (was %.1f)",
-                    after, before, e.quality.corner_angle_mean_deviation_deg,
-                    out.quality.corner_angle_mean_deviation_deg);
+                    after, before, angle_after, angle_before);
                 say(line);
                 out = std::move(e);
                 embedded = true;

@@ -23,6 +23,7 @@ namespace quadcage::layout::detail {
 namespace {
 
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
+constexpr double kPi = 3.14159265358979323846;
 
 // smooth_layout_edges(): the band of vertices freed round the layout edges, in vertex rings; how
 // much of each edge's length is held at either end; the Newton
@@ -137,6 +138,13 @@ double density(const Eigen::Vector4d& g, double area_weight, double conformal_we
     return value;
 }
 
+// A soft target for a triangle corner's vertex: the (u, v) it is pulled to in that triangle's chart.
+struct Anchor {
+    int triangle, corner;
+    UV target;
+    double weight;
+};
+
 // One triangle corner's unknown: the (u, v) in the triangle's chart is T(x[var]), or fixed (a cone).
 struct CornerRef {
     int var = -1;
@@ -157,6 +165,13 @@ struct Problem {
     double inverse_weight = 1;    // EmbeddingOptions::inverse_weight
     double eps = 0;               // chi()'s regularisation: 0 for the exact energy, > 0 while untangling
     std::vector<int> active;      // the triangles with an unknown corner (the others cannot change)
+    // Soft targets: weight * |x[var] - target|^2 per entry, target in var's master chart.
+    struct Pull {
+        int var;
+        UV target;
+        double weight;
+    };
+    std::vector<Pull> pulls;
 };
 
 Eigen::Matrix2d rotation_matrix(int quarter_turns) {
@@ -198,6 +213,10 @@ double energy(const Problem& p, const std::vector<UV>& x) {
     });
     double e = 0;
     for (const double term : terms) e += term;
+    for (const Problem::Pull& a : p.pulls) {
+        const double du = x[a.var][0] - a.target[0], dv = x[a.var][1] - a.target[1];
+        e += a.weight * (du * du + dv * dv);
+    }
     return e;
 }
 
@@ -414,7 +433,8 @@ struct NewtonPattern {
 // energy takes over. Untangling steps (at most kUntangleSteps) do not count as iterations.
 // With `free`, only the vertices it marks move.
 EmbeddingReport newton(const QuadLayout& L, const Surface& s, const EmbeddingOptions& options,
-                       SeamlessMap* map, bool untangle = false, const std::vector<char>* free = nullptr) {
+                       SeamlessMap* map, bool untangle = false, const std::vector<char>* free = nullptr,
+                       const std::vector<Anchor>* anchors = nullptr) {
     constexpr int kUntangleSteps = 200;
     const auto start = std::chrono::steady_clock::now();
     EmbeddingReport report;
@@ -423,6 +443,11 @@ EmbeddingReport newton(const QuadLayout& L, const Surface& s, const EmbeddingOpt
     p.area_weight = options.area_weight;
     p.conformal_weight = options.conformal_weight;
     p.inverse_weight = options.inverse_weight;
+    if (anchors)
+        for (const Anchor& a : *anchors) {
+            const CornerRef& r = p.refs[a.triangle][a.corner];
+            if (r.var >= 0) p.pulls.push_back({r.var, r.to_chart.inverse().apply(a.target), a.weight});
+        }
     report.variables = p.variables;
     QC_CHECK(start_mismatch(*map, p, x) < 1e-9, "optimize_embedding: the start map is not seamless");
     const int nt = static_cast<int>(p.refs.size());
@@ -507,6 +532,11 @@ EmbeddingReport newton(const QuadLayout& L, const Surface& s, const EmbeddingOpt
             }
         }
         for (int i = 0; i < m; ++i) H.coeffRef(i, i) += 1e-9;
+        for (const Problem::Pull& a : p.pulls)
+            for (int i = 0; i < 2; ++i) {
+                grad[2 * a.var + i] += 2 * a.weight * (x[a.var][i] - a.target[i]);
+                H.coeffRef(2 * a.var + i, 2 * a.var + i) += 2 * a.weight;
+            }
         Eigen::VectorXd d;
         {
             // The fit's two BLAS threads, whatever the process's count, so the map does not depend
@@ -644,6 +674,235 @@ void mark_held_ends(const QuadLayout& L, const Surface& s, double fraction, std:
     mark_rings(s, ends, 1, held);
 }
 
+
+// Cone charts (issue #20's corner angles). Near a corner of degree d the map is pulled towards the
+// power map P + c z^(d/4) of flat coordinates z round the corner: conformal, it turns the flat full
+// turn into the d quarter turns round the cone, so its integer iso-lines, the new layout edges,
+// leave the corner along rays 360/d degrees apart. The flat coordinates are the corner's tangent
+// plane (area-weighted normal), the plane check_layout.py --quality measures the corner angles in,
+// on a disk round the corner: the vertices within kConeChartRadius of the corner's longest layout
+// edge (Dijkstra along mesh edges; at most half its shortest edge) and its ring, shrunk until the
+// projection flips no triangle round a disk vertex and the disk holds no other corner. Where no disk
+// projects so (a corner on a crease), the corner's ring alone is laid out round it with its angles
+// scaled to a full turn. The complex factor c (turn and scale) is the least-squares fit of the
+// current map, so the pull turns each corner's edges as little as it can.
+constexpr double kConeChartRadius = 0.15;
+
+struct ConeDisk {
+    std::unordered_map<int, std::array<double, 2>> flat;  // disk vertex -> flat coordinates
+    double radius = 0;
+};
+
+template <class Flatten>
+ConeDisk flat_disk(const std::vector<int>& vertices, const Flatten& flatten) {
+    ConeDisk out;
+    for (int v : vertices) {
+        out.flat[v] = flatten(v);
+        out.radius = std::max(out.radius, std::hypot(out.flat[v][0], out.flat[v][1]));
+    }
+    return out;
+}
+
+ConeDisk tangent_disk(const Surface& s, int vc, double rho, const std::vector<char>& is_corner) {
+    const Mesh& mesh = s.mesh();
+    const Vec3& o = mesh.points[vc];
+    Vec3 nrm;
+    for (int h : s.out_half_edges(vc)) {
+        const Triangle& t = mesh.triangles[h / 3];
+        nrm += cross(mesh.points[t[1]] - mesh.points[t[0]], mesh.points[t[2]] - mesh.points[t[0]]);
+    }
+    if (!(norm(nrm) > 0)) return {};
+    nrm = nrm / norm(nrm);
+    Vec3 e1 = cross(nrm, std::abs(nrm[0]) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0});
+    e1 = e1 / norm(e1);
+    const Vec3 e2 = cross(nrm, e1);
+    auto plane = [&](int v) {
+        const Vec3 d = mesh.points[v] - o;
+        return std::array<double, 2>{dot(d, e1), dot(d, e2)};
+    };
+    for (int attempt = 0; attempt < 6; ++attempt, rho *= 0.7) {
+        std::unordered_map<int, double> dist{{vc, 0.0}};
+        std::vector<std::pair<double, int>> heap{{0.0, vc}};
+        std::vector<int> disk = s.ring(vc);
+        while (!heap.empty()) {
+            std::pop_heap(heap.begin(), heap.end(), std::greater<>());
+            const auto [d, v] = heap.back();
+            heap.pop_back();
+            if (d > dist[v]) continue;
+            disk.push_back(v);
+            for (int w : s.ring(v)) {
+                const double dw = d + norm(mesh.points[w] - mesh.points[v]);
+                const auto it = dist.find(w);
+                if (dw <= rho && (it == dist.end() || dw < it->second)) {
+                    dist[w] = dw;
+                    heap.push_back({dw, w});
+                    std::push_heap(heap.begin(), heap.end(), std::greater<>());
+                }
+            }
+        }
+        std::sort(disk.begin(), disk.end());
+        disk.erase(std::unique(disk.begin(), disk.end()), disk.end());
+        bool ok = true;
+        for (size_t i = 0; ok && i < disk.size(); ++i) {
+            if (disk[i] != vc && is_corner[disk[i]]) ok = false;
+            for (int h : s.out_half_edges(disk[i])) {
+                const Triangle& t = mesh.triangles[h / 3];
+                const auto a = plane(t[0]), b = plane(t[1]), q = plane(t[2]);
+                if (!((b[0] - a[0]) * (q[1] - a[1]) - (q[0] - a[0]) * (b[1] - a[1]) > 0)) ok = false;
+            }
+        }
+        if (!ok) continue;
+        return flat_disk(disk, plane);
+    }
+    // The ring alone, if the plane holds the corner's own triangles the right way round.
+    for (int h : s.out_half_edges(vc)) {
+        const Triangle& t = mesh.triangles[h / 3];
+        const auto a = plane(t[0]), b = plane(t[1]), q = plane(t[2]);
+        if (!((b[0] - a[0]) * (q[1] - a[1]) - (q[0] - a[0]) * (b[1] - a[1]) > 0)) return {};
+    }
+    std::vector<int> ring = s.ring(vc);
+    for (int v : ring)
+        if (is_corner[v]) return {};
+    ring.push_back(vc);
+    return flat_disk(ring, plane);
+}
+
+ConeDisk ring_disk(const Surface& s, int vc, const std::vector<char>& is_corner) {
+    const Mesh& mesh = s.mesh();
+    const Vec3& o = mesh.points[vc];
+    std::vector<std::pair<int, double>> fan;  // ring vertex, its angle round vc from the first
+    double total = 0;
+    const int h0 = s.out_half_edge(vc);
+    int h = h0;
+    do {
+        const int a = s.to(h);
+        if (is_corner[a]) return {};
+        fan.push_back({a, total});
+        const Vec3 da = mesh.points[a] - o, db = mesh.points[s.to(s.rotate(h))] - o;
+        total += std::atan2(norm(cross(da, db)), dot(da, db));
+        h = s.rotate(h);
+    } while (h != h0 && fan.size() < 1000);
+    if (h != h0 || !(total > 0)) return {};
+    ConeDisk out;
+    out.flat[vc] = {0, 0};
+    for (const auto& [w, angle] : fan) {
+        const double r = norm(mesh.points[w] - o), phi = angle * 2 * kPi / total;
+        out.flat[w] = {r * std::cos(phi), r * std::sin(phi)};
+        out.radius = std::max(out.radius, r);
+    }
+    return out;
+}
+
+// Appends to *anchors the pulls of `disk`'s vertices (but the corner's) towards the power map round
+// corner vertex vc of degree d, each weighted strength * its scaled area / (|c| radius^(d/4))^2.
+void pull_to_cone_chart(const Surface& s, const SeamlessMap& map, int vc, int d, const ConeDisk& disk,
+                        double strength, const std::vector<double>& vertex_area, std::vector<Anchor>* anchors) {
+    const Mesh& mesh = s.mesh();
+    auto in_disk = [&](int v) { return disk.flat.count(v) > 0; };
+    auto wrap = [](double a) { return a - 2 * kPi * std::round(a / (2 * kPi)); };
+    // The angle of the disk vertices' mean in a triangle (vc alone counts for nothing).
+    auto angle_of = [&](int t) {
+        double x = 0, y = 0;
+        for (int v : mesh.triangles[t])
+            if (in_disk(v)) x += disk.flat.at(v)[0], y += disk.flat.at(v)[1];
+        return std::atan2(y, x);
+    };
+    // The triangles with a disk vertex other than vc, walked from one of vc's: the transition from
+    // the first one's chart into each, and each one's angle unwrapped along the walk. A walk round
+    // vc turns the angle by a full turn and the chart by the cone's quarter turns, as the power map.
+    const int t0 = s.out_half_edge(vc) / 3;
+    struct Walked {
+        int t;
+        Transition from_first;
+        double angle;
+    };
+    std::vector<Walked> walked{{t0, Transition{}, angle_of(t0)}};
+    std::unordered_map<int, int> seen{{t0, 0}};
+    for (size_t i = 0; i < walked.size(); ++i)
+        for (int k = 0; k < 3; ++k) {
+            const int g = s.twin(3 * walked[i].t + k), o = g / 3;
+            if (seen.count(o)) continue;
+            bool touches = false;
+            for (int v : mesh.triangles[o]) touches = touches || (v != vc && in_disk(v));
+            if (!touches) continue;
+            seen[o] = static_cast<int>(walked.size());
+            walked.push_back({o, walked[i].from_first.then(map.across[g]),
+                              walked[i].angle + wrap(angle_of(o) - walked[i].angle)});
+        }
+    const int k0 = static_cast<int>(std::find(mesh.triangles[t0].begin(), mesh.triangles[t0].end(), vc) -
+                                    mesh.triangles[t0].begin());
+    const UV P = map.uv[t0][k0];
+    const double a = d / 4.0;
+    auto power = [&](int v, double near) {  // z^a, z's angle unwrapped within half a turn of `near`
+        const auto& q = disk.flat.at(v);
+        const double theta = near + wrap(std::atan2(q[1], q[0]) - near);
+        const double ra = std::pow(std::hypot(q[0], q[1]), a);
+        return std::array<double, 2>{ra * std::cos(a * theta), ra * std::sin(a * theta)};
+    };
+    // c minimises the sum over the disk vertices' triangle corners of |P + c z - uv|^2 in t0's chart.
+    double num_re = 0, num_im = 0, den = 0;
+    for (const Walked& w : walked) {
+        const Transition back = w.from_first.inverse();
+        for (int k = 0; k < 3; ++k) {
+            const int v = mesh.triangles[w.t][k];
+            if (v == vc || !in_disk(v)) continue;
+            const auto z = power(v, w.angle);
+            const UV u = back.apply(map.uv[w.t][k]);
+            const double du = u[0] - P[0], dv = u[1] - P[1];
+            num_re += z[0] * du + z[1] * dv;
+            num_im += z[0] * dv - z[1] * du;
+            den += z[0] * z[0] + z[1] * z[1];
+        }
+    }
+    if (!(den > 0)) return;
+    const double cr = num_re / den, ci = num_im / den;
+    const double reach2 = (cr * cr + ci * ci) * std::pow(disk.radius, 2 * a);
+    if (!(reach2 > 0)) return;
+    std::unordered_map<int, char> pulled;
+    for (const Walked& w : walked)
+        for (int k = 0; k < 3; ++k) {
+            const int v = mesh.triangles[w.t][k];
+            if (v == vc || !in_disk(v) || pulled[v]) continue;
+            pulled[v] = 1;
+            const auto z = power(v, w.angle);
+            const UV target = w.from_first.apply({P[0] + cr * z[0] - ci * z[1], P[1] + cr * z[1] + ci * z[0]});
+            anchors->push_back({w.t, k, target, strength * vertex_area[v] / reach2});
+        }
+}
+
+// The cone charts' pulls of every corner, with `strength` (> 0).
+std::vector<Anchor> cone_chart_anchors(const QuadLayout& L, const Surface& s, const SeamlessMap& map,
+                                       double strength) {
+    const Mesh& mesh = L.mesh;
+    const int n = mesh.num_vertices(), corners = L.cage.num_corners();
+    std::vector<char> is_corner(n, 0);
+    for (int v : L.corner_vertex) is_corner[v] = 1;
+    std::vector<int> degree(corners, 0);
+    std::vector<double> longest(corners, 0), shortest(corners, kInfinity);
+    for (size_t e = 0; e < L.edge_paths.size(); ++e) {
+        const auto& path = L.edge_paths[e];
+        double len = 0;
+        for (size_t i = 0; i + 1 < path.size(); ++i) len += norm(mesh.points[path[i + 1]] - mesh.points[path[i]]);
+        for (const int c : L.cage.edges[e].corners) {
+            ++degree[c];
+            longest[c] = std::max(longest[c], len);
+            shortest[c] = std::min(shortest[c], len);
+        }
+    }
+    const double scale2 = L.cage.num_quads() / surface_area(mesh);
+    std::vector<double> vertex_area(n, 0);
+    for (int t = 0; t < mesh.num_triangles(); ++t)
+        for (int v : mesh.triangles[t]) vertex_area[v] += triangle_area(mesh, t) * scale2 / 3;
+    std::vector<Anchor> anchors;
+    for (int c = 0; c < corners; ++c) {
+        const int vc = L.corner_vertex[c];
+        ConeDisk disk = tangent_disk(s, vc, std::min(kConeChartRadius * longest[c], 0.5 * shortest[c]), is_corner);
+        if (disk.flat.empty()) disk = ring_disk(s, vc, is_corner);
+        if (!disk.flat.empty()) pull_to_cone_chart(s, map, vc, degree[c], disk, strength, vertex_area, &anchors);
+    }
+    return anchors;
+}
+
 }  // namespace
 
 std::string smooth_layout_edges(const QuadLayout& L, QuadLayout* out, SmoothingReport* report) {
@@ -680,19 +939,27 @@ std::string smooth_layout_edges(const QuadLayout& L, QuadLayout* out, SmoothingR
 }
 
 std::string embed_layout_edges(const QuadLayout& L, int iterations, QuadLayout* out,
-                               EdgeEmbeddingReport* report, double tolerance) {
+                               EdgeEmbeddingReport* report, double tolerance, double cone_charts) {
     const auto start = std::chrono::steady_clock::now();
     const Surface s(L.mesh);
     SeamlessMap map;
     start_map(L, s, &map);
-    std::vector<char> held(L.mesh.num_vertices(), 0);
-    mark_held_ends(L, s, kEmbeddingHeldFraction, &held);
-    std::vector<char> free(held.size());
-    for (size_t v = 0; v < held.size(); ++v) free[v] = !held[v];
+    // Near the corners, either the map is pulled to the cone charts or each corner's star and each
+    // edge's ends are held (the directions the relaxation gave the edges).
+    std::vector<char> free(L.mesh.num_vertices(), 1);
+    std::vector<Anchor> anchors;
+    if (cone_charts > 0) {
+        anchors = cone_chart_anchors(L, s, map, cone_charts);
+        report->pulled = static_cast<int>(anchors.size());
+    } else {
+        std::vector<char> held(free.size(), 0);
+        mark_held_ends(L, s, kEmbeddingHeldFraction, &held);
+        for (size_t v = 0; v < held.size(); ++v) free[v] = !held[v];
+    }
     EmbeddingOptions symmetric_dirichlet;
     symmetric_dirichlet.iterations = iterations;
     symmetric_dirichlet.tolerance = tolerance;
-    const EmbeddingReport r = newton(L, s, symmetric_dirichlet, &map, false, &free);
+    const EmbeddingReport r = newton(L, s, symmetric_dirichlet, &map, false, &free, &anchors);
     report->variables = r.variables;
     report->iterations = r.iterations;
     report->initial_energy = r.initial_energy;

@@ -179,6 +179,7 @@ struct EdgeEmbeddingReport {
     double initial_energy = 0;  ///< Area-weighted mean symmetric Dirichlet energy (4 = isometric).
     double final_energy = 0;
     std::string stopped;  ///< Why the Newton steps stopped.
+    int pulled = 0;       ///< Vertices pulled towards the cone charts (with cone_charts > 0).
     double seconds = 0;
 };
 
@@ -194,9 +195,18 @@ struct EdgeEmbeddingReport {
 /// along the map's integer iso-lines (extract_layout(), crossings slid as in
 /// smooth_layout_edges()), so the edges run across the triangles. Returns "" and fills *out, or
 /// says why there is no such layout.
+/// With cone_charts > 0, nothing but the corners is held. Round each corner the map is instead pulled
+/// towards its cone chart, with this strength: the conformal power map P + c z^(d/4) of the corner's
+/// tangent plane (d its degree; c fitted to the layout's map), whose iso-lines leave the corner 360/d
+/// degrees apart in that plane, where check_layout.py --quality measures the corner angles. The pull
+/// covers a disk of 0.15 of the corner's longest edge (at most half its shortest), each vertex
+/// weighted cone_charts * its area (at the scale area / quads) / the disk's radius in the map
+/// squared; a corner whose tangent plane folds the disk (a crease) pulls its ring only, laid out
+/// round it with its angles scaled to a full turn.
 /// \pre verify_quad_layout(layout) is "".
 std::string embed_layout_edges(const QuadLayout& layout, int iterations, QuadLayout* out,
-                               EdgeEmbeddingReport* report, double tolerance = kEdgeEmbeddingTolerance);
+                               EdgeEmbeddingReport* report, double tolerance = kEdgeEmbeddingTolerance,
+                               double cone_charts = 0);
 
 /// Where build_quad_layout() puts the layout edges (edges.cpp), on the relaxed layout: the edge
 /// embedding (embed_layout_edges(), `options.edge_embedding_iterations` steps) where the layout mesh
