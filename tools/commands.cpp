@@ -207,7 +207,8 @@ std::vector<std::string> embedding_arguments(const EmbeddingFlags& flags) {
         args.insert(args.end(),
                     {"--edge-embedding-max-vertices", std::to_string(flags.edge_embedding_max_vertices)});
     if (flags.edge_embedding_cone_charts != defaults.edge_embedding_cone_charts)
-        args.insert(args.end(), {"--edge-embedding-cone-charts", exact_number(flags.edge_embedding_cone_charts)});
+        args.insert(args.end(),
+                    {"--edge-embedding-cone-charts", exact_number(flags.edge_embedding_cone_charts)});
     return args;
 }
 

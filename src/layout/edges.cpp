@@ -39,8 +39,8 @@ void place_layout_edges(QuadLayout* layout, const QuadLayoutOptions& options, lo
         EdgeEmbeddingReport r;
         std::string why_not;
         try {
-            why_not = embed_layout_edges(out, options.edge_embedding_iterations, &e, &r, kEdgeEmbeddingTolerance,
-                                         options.edge_embedding_cone_charts);
+            why_not = embed_layout_edges(out, options.edge_embedding_iterations, &e, &r,
+                                         kEdgeEmbeddingTolerance, options.edge_embedding_cone_charts);
         } catch (const InternalError& error) {
             // The smoothing below still gives clean edges; a failure here is a bug to report, not
             // a reason to lose the layout.
@@ -53,7 +53,8 @@ void place_layout_edges(QuadLayout* layout, const QuadLayoutOptions& options, lo
                           r.iterations, r.stopped.c_str(), r.variables, r.initial_energy, r.final_energy,
                           r.seconds);
             std::string said = line;
-            if (r.pulled > 0) said += "; " + std::to_string(r.pulled) + " of them pulled towards the cone charts";
+            if (r.pulled > 0)
+                said += "; " + std::to_string(r.pulled) + " of them pulled towards the cone charts";
             say(said);
             measure_quality(&e);
             e.seconds = out.seconds;
@@ -73,8 +74,8 @@ void place_layout_edges(QuadLayout* layout, const QuadLayoutOptions& options, lo
                 std::snprintf(line, sizeof line, "patch area max/min %.3g, not below %.3g", after, before);
                 why_not = line;
             } else if (charts && !(angle_after < angle_before)) {
-                std::snprintf(line, sizeof line, "corner angle deviation %.1f deg, not below %.1f", angle_after,
-                              angle_before);
+                std::snprintf(line, sizeof line, "corner angle deviation %.1f deg, not below %.1f",
+                              angle_after, angle_before);
                 why_not = line;
             } else {
                 std::snprintf(

@@ -674,7 +674,6 @@ void mark_held_ends(const QuadLayout& L, const Surface& s, double fraction, std:
     mark_rings(s, ends, 1, held);
 }
 
-
 // Cone charts (issue #20's corner angles). Near a corner of degree d the map is pulled towards the
 // power map P + c z^(d/4) of flat coordinates z round the corner: conformal, it turns the flat full
 // turn into the d quarter turns round the cone, so its integer iso-lines, the new layout edges,
@@ -706,65 +705,39 @@ ConeDisk flat_disk(const std::vector<int>& vertices, const Flatten& flatten) {
 ConeDisk tangent_disk(const Surface& s, int vc, double rho, const std::vector<char>& is_corner) {
     const Mesh& mesh = s.mesh();
     const Vec3& o = mesh.points[vc];
-    Vec3 nrm;
-    for (int h : s.out_half_edges(vc)) {
-        const Triangle& t = mesh.triangles[h / 3];
-        nrm += cross(mesh.points[t[1]] - mesh.points[t[0]], mesh.points[t[2]] - mesh.points[t[0]]);
-    }
-    if (!(norm(nrm) > 0)) return {};
-    nrm = nrm / norm(nrm);
-    Vec3 e1 = cross(nrm, std::abs(nrm[0]) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0});
-    e1 = e1 / norm(e1);
-    const Vec3 e2 = cross(nrm, e1);
+    const auto [e1, e2] = tangent_frame(vertex_normal(s, vc));
     auto plane = [&](int v) {
         const Vec3 d = mesh.points[v] - o;
         return std::array<double, 2>{dot(d, e1), dot(d, e2)};
     };
-    for (int attempt = 0; attempt < 6; ++attempt, rho *= 0.7) {
-        std::unordered_map<int, double> dist{{vc, 0.0}};
-        std::vector<std::pair<double, int>> heap{{0.0, vc}};
-        std::vector<int> disk = s.ring(vc);
-        while (!heap.empty()) {
-            std::pop_heap(heap.begin(), heap.end(), std::greater<>());
-            const auto [d, v] = heap.back();
-            heap.pop_back();
-            if (d > dist[v]) continue;
-            disk.push_back(v);
-            for (int w : s.ring(v)) {
-                const double dw = d + norm(mesh.points[w] - mesh.points[v]);
-                const auto it = dist.find(w);
-                if (dw <= rho && (it == dist.end() || dw < it->second)) {
-                    dist[w] = dw;
-                    heap.push_back({dw, w});
-                    std::push_heap(heap.begin(), heap.end(), std::greater<>());
-                }
-            }
+    auto keeps_orientation = [&](int v) {  // of every triangle round v, projected
+        for (int h : s.out_half_edges(v)) {
+            const Triangle& t = mesh.triangles[h / 3];
+            const auto a = plane(t[0]), b = plane(t[1]), q = plane(t[2]);
+            if (!((b[0] - a[0]) * (q[1] - a[1]) - (q[0] - a[0]) * (b[1] - a[1]) > 0)) return false;
         }
-        std::sort(disk.begin(), disk.end());
-        disk.erase(std::unique(disk.begin(), disk.end()), disk.end());
-        bool ok = true;
-        for (size_t i = 0; ok && i < disk.size(); ++i) {
-            if (disk[i] != vc && is_corner[disk[i]]) ok = false;
-            for (int h : s.out_half_edges(disk[i])) {
-                const Triangle& t = mesh.triangles[h / 3];
-                const auto a = plane(t[0]), b = plane(t[1]), q = plane(t[2]);
-                if (!((b[0] - a[0]) * (q[1] - a[1]) - (q[0] - a[0]) * (b[1] - a[1]) > 0)) ok = false;
-            }
-        }
-        if (!ok) continue;
-        return flat_disk(disk, plane);
-    }
-    // The ring alone, if the plane holds the corner's own triangles the right way round.
-    for (int h : s.out_half_edges(vc)) {
-        const Triangle& t = mesh.triangles[h / 3];
-        const auto a = plane(t[0]), b = plane(t[1]), q = plane(t[2]);
-        if (!((b[0] - a[0]) * (q[1] - a[1]) - (q[0] - a[0]) * (b[1] - a[1]) > 0)) return {};
-    }
+        return true;
+    };
     std::vector<int> ring = s.ring(vc);
     for (int v : ring)
         if (is_corner[v]) return {};
     ring.push_back(vc);
-    return flat_disk(ring, plane);
+    PathSearch search;
+    search.sources = {{vc, 0.0}};
+    for (int attempt = 0; attempt < 6; ++attempt, rho *= 0.7) {
+        search.max_distance = rho;
+        const std::vector<double> distance = dijkstra(s, search).distance;
+        std::vector<int> disk = ring;
+        for (int v = 0; v < s.num_vertices(); ++v)
+            if (distance[v] <= rho && v != vc && std::find(ring.begin(), ring.end(), v) == ring.end())
+                disk.push_back(v);
+        bool ok = true;
+        for (size_t i = 0; ok && i < disk.size(); ++i)
+            ok = !(disk[i] != vc && is_corner[disk[i]]) && keeps_orientation(disk[i]);
+        if (ok) return flat_disk(disk, plane);
+    }
+    // The ring alone, if the plane holds the corner's own triangles the right way round.
+    return keeps_orientation(vc) ? flat_disk(ring, plane) : ConeDisk{};
 }
 
 ConeDisk ring_disk(const Surface& s, int vc, const std::vector<char>& is_corner) {
@@ -796,7 +769,8 @@ ConeDisk ring_disk(const Surface& s, int vc, const std::vector<char>& is_corner)
 // Appends to *anchors the pulls of `disk`'s vertices (but the corner's) towards the power map round
 // corner vertex vc of degree d, each weighted strength * its scaled area / (|c| radius^(d/4))^2.
 void pull_to_cone_chart(const Surface& s, const SeamlessMap& map, int vc, int d, const ConeDisk& disk,
-                        double strength, const std::vector<double>& vertex_area, std::vector<Anchor>* anchors) {
+                        double strength, const std::vector<double>& vertex_area,
+                        std::vector<Anchor>* anchors) {
     const Mesh& mesh = s.mesh();
     auto in_disk = [&](int v) { return disk.flat.count(v) > 0; };
     auto wrap = [](double a) { return a - 2 * kPi * std::round(a / (2 * kPi)); };
@@ -865,7 +839,8 @@ void pull_to_cone_chart(const Surface& s, const SeamlessMap& map, int vc, int d,
             if (v == vc || !in_disk(v) || pulled[v]) continue;
             pulled[v] = 1;
             const auto z = power(v, w.angle);
-            const UV target = w.from_first.apply({P[0] + cr * z[0] - ci * z[1], P[1] + cr * z[1] + ci * z[0]});
+            const UV target =
+                w.from_first.apply({P[0] + cr * z[0] - ci * z[1], P[1] + cr * z[1] + ci * z[0]});
             anchors->push_back({w.t, k, target, strength * vertex_area[v] / reach2});
         }
 }
@@ -882,7 +857,8 @@ std::vector<Anchor> cone_chart_anchors(const QuadLayout& L, const Surface& s, co
     for (size_t e = 0; e < L.edge_paths.size(); ++e) {
         const auto& path = L.edge_paths[e];
         double len = 0;
-        for (size_t i = 0; i + 1 < path.size(); ++i) len += norm(mesh.points[path[i + 1]] - mesh.points[path[i]]);
+        for (size_t i = 0; i + 1 < path.size(); ++i)
+            len += norm(mesh.points[path[i + 1]] - mesh.points[path[i]]);
         for (const int c : L.cage.edges[e].corners) {
             ++degree[c];
             longest[c] = std::max(longest[c], len);
@@ -896,9 +872,11 @@ std::vector<Anchor> cone_chart_anchors(const QuadLayout& L, const Surface& s, co
     std::vector<Anchor> anchors;
     for (int c = 0; c < corners; ++c) {
         const int vc = L.corner_vertex[c];
-        ConeDisk disk = tangent_disk(s, vc, std::min(kConeChartRadius * longest[c], 0.5 * shortest[c]), is_corner);
+        ConeDisk disk =
+            tangent_disk(s, vc, std::min(kConeChartRadius * longest[c], 0.5 * shortest[c]), is_corner);
         if (disk.flat.empty()) disk = ring_disk(s, vc, is_corner);
-        if (!disk.flat.empty()) pull_to_cone_chart(s, map, vc, degree[c], disk, strength, vertex_area, &anchors);
+        if (!disk.flat.empty())
+            pull_to_cone_chart(s, map, vc, degree[c], disk, strength, vertex_area, &anchors);
     }
     return anchors;
 }

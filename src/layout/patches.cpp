@@ -18,17 +18,6 @@ constexpr double kPi = 3.14159265358979323846;
 /// Reweighting rounds of the stretch-minimising patch maps (each one sparse factorisation).
 constexpr int kStretchIterations = 8;
 
-Vec3 vertex_normal(const Surface& s, int v) {
-    Vec3 n;
-    for (int h : s.out_half_edges(v)) {
-        const Triangle& t = s.mesh().triangles[h / 3];
-        const Mesh& m = s.mesh();
-        n += cross(m.points[t[1]] - m.points[t[0]], m.points[t[2]] - m.points[t[0]]);
-    }
-    const double l = norm(n);
-    return l > 0 ? n / l : Vec3{0, 0, 1};
-}
-
 }  // namespace
 
 void quad_boundary(const QuadLayout& layout, int q, std::vector<int>* loop, std::vector<int>* side) {
@@ -456,11 +445,7 @@ void measure_quality(QuadLayout* layout) {
     for (int c = 0; c < layout->cage.num_corners(); ++c) {
         const auto& dirs = leaving[c];
         if (dirs.size() < 2) continue;
-        const Vec3 nrm = vertex_normal(s, layout->corner_vertex[c]);
-        const Vec3 axis = std::abs(nrm[0]) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
-        Vec3 e1 = cross(nrm, axis);
-        e1 = e1 / norm(e1);
-        const Vec3 e2 = cross(nrm, e1);
+        const auto [e1, e2] = tangent_frame(vertex_normal(s, layout->corner_vertex[c]));
         std::vector<double> angle;
         for (const Vec3& d : dirs) angle.push_back(std::atan2(dot(d, e2), dot(d, e1)));
         std::sort(angle.begin(), angle.end());

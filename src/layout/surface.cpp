@@ -236,4 +236,21 @@ void lower_distances(const Surface& s, const std::vector<int>& sources, const st
     }
 }
 
+Vec3 vertex_normal(const Surface& s, int v) {
+    const Mesh& m = s.mesh();
+    Vec3 n;
+    for (int h : s.out_half_edges(v)) {
+        const Triangle& t = m.triangles[h / 3];
+        n += cross(m.points[t[1]] - m.points[t[0]], m.points[t[2]] - m.points[t[0]]);
+    }
+    const double l = norm(n);
+    return l > 0 ? n / l : Vec3{0, 0, 1};
+}
+
+std::array<Vec3, 2> tangent_frame(const Vec3& n) {
+    Vec3 e1 = cross(n, std::abs(n[0]) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0});
+    e1 = e1 / norm(e1);
+    return {e1, cross(n, e1)};
+}
+
 }  // namespace quadcage::layout::detail

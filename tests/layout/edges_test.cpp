@@ -110,7 +110,6 @@ TEST(LayoutPlaceEdges, WithoutSmoothingTheEdgesStayAlongMeshEdges) {
     EXPECT_EQ(p.layout.triangle_patch, staircase().triangle_patch);
 }
 
-
 // The cone charts (issue #20's corner angles) pull the map round each corner towards the conformal
 // map that spreads the corner's edges evenly in its tangent plane; on a big smooth body with two
 // small handles (the class whose corners crowd round the handles) they lower the mean corner angle

@@ -3,6 +3,7 @@
 // triangle list, rotation order around vertices, batched edge splits (new vertices only at edge
 // midpoints, input vertices never move) and Dijkstra searches that avoid blocked vertices.
 
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <limits>
@@ -83,6 +84,13 @@ struct PathResult {
 };
 
 PathResult dijkstra(const Surface& s, const PathSearch& search);
+
+/// The unit normal at v: the sum of its triangles' area vectors, normalised ((0, 0, 1) if it is 0);
+/// the normal check_layout.py --quality measures corner angles about.
+Vec3 vertex_normal(const Surface& s, int v);
+
+/// Two unit vectors that make a right-handed frame with unit normal n (the corner angles' plane).
+std::array<Vec3, 2> tangent_frame(const Vec3& n);
 
 /// Lowers `distance`, the distances of a search without cost (edge lengths) from some sources, to
 /// those of the same search with `sources` (at cost 0) added: the values dijkstra() gives for all
