@@ -96,7 +96,7 @@ std::vector<CLI::Option*> add_embedding_flags(CLI::App* cmd, quadcage::cli::Embe
                "round each corner the map is pulled towards the conformal map that spreads the corner's\n"
                "edges evenly in its tangent plane, instead of holding the edges' ends, and the embedded\n"
                "edges are kept if they lower the mean corner angle deviation. At 1000 it fell from 23.1\n"
-               "to 14.7 deg on botijo, but the level-3 fit's Hausdorff distance rose (README: Cone charts)")
+               "to 14.2 deg on botijo, but the level-3 fit's Hausdorff distance rose (README: Cone charts)")
             ->check(CLI::NonNegativeNumber));
     return all;
 }

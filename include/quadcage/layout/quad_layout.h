@@ -84,8 +84,8 @@ struct QuadLayoutOptions {
     /// 360/degree degrees apart there (where check_layout.py --quality measures the corner angles),
     /// and the embedded edges are kept if they have a smaller corner angle deviation (instead of a
     /// smaller patch area max/min). Measured with 1000 (the README's "Cone charts"): the mean corner
-    /// angle deviation falls (botijo 23.1 -> 14.7 deg, skull 21.1 -> 8.4) but the level-3 fits'
-    /// Hausdorff distances rise on most meshes (skull 9.88e-3 -> 1.09e-2), so it is off by default.
+    /// angle deviation falls (botijo 23.1 -> 14.2 deg, skull 21.1 -> 8.3) but the level-3 fits'
+    /// Hausdorff distances rise on eight of 15 meshes (skull 9.88e-3 -> 1.10e-2), so it is off by default.
     double edge_embedding_cone_charts = 0;
     /// Newton iterations of the global embedding optimisation (issue #20; 0: skip it), >= 0. The
     /// stage optimises one seamless map of the whole surface over the cage's unit squares
