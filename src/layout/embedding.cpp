@@ -14,6 +14,7 @@
 #include "common/blas_threads.h"
 #include "detail/curves.h"
 #include "detail/patches.h"
+#include "detail/stages.h"
 #include "detail/surface.h"
 #include "quadcage/core/errors.h"
 #include "quadcage/core/parallel.h"
@@ -855,10 +856,7 @@ std::vector<Anchor> cone_chart_anchors(const QuadLayout& L, const Surface& s, co
     std::vector<int> degree(corners, 0);
     std::vector<double> longest(corners, 0), shortest(corners, kInfinity);
     for (size_t e = 0; e < L.edge_paths.size(); ++e) {
-        const auto& path = L.edge_paths[e];
-        double len = 0;
-        for (size_t i = 0; i + 1 < path.size(); ++i)
-            len += norm(mesh.points[path[i + 1]] - mesh.points[path[i]]);
+        const double len = path_length(mesh, L.edge_paths[e]);
         for (const int c : L.cage.edges[e].corners) {
             ++degree[c];
             longest[c] = std::max(longest[c], len);
