@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <limits>
 #include <unordered_map>
+#include <unordered_set>
 
 #include "common/blas_threads.h"
 #include "detail/curves.h"
@@ -792,7 +793,7 @@ void pull_to_cone_chart(const Surface& s, const SeamlessMap& map, int vc, int d,
         double angle;
     };
     std::vector<Walked> walked{{t0, Transition{}, angle_of(t0)}};
-    std::unordered_map<int, int> seen{{t0, 0}};
+    std::unordered_set<int> seen{t0};
     for (size_t i = 0; i < walked.size(); ++i)
         for (int k = 0; k < 3; ++k) {
             const int g = s.twin(3 * walked[i].t + k), o = g / 3;
@@ -800,7 +801,7 @@ void pull_to_cone_chart(const Surface& s, const SeamlessMap& map, int vc, int d,
             bool touches = false;
             for (int v : mesh.triangles[o]) touches = touches || (v != vc && in_disk(v));
             if (!touches) continue;
-            seen[o] = static_cast<int>(walked.size());
+            seen.insert(o);
             walked.push_back({o, walked[i].from_first.then(map.across[g]),
                               walked[i].angle + wrap(angle_of(o) - walked[i].angle)});
         }
