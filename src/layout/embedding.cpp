@@ -834,12 +834,11 @@ void pull_to_cone_chart(const Surface& s, const SeamlessMap& map, int vc, int d,
     const double cr = num_re / den, ci = num_im / den;
     const double reach2 = (cr * cr + ci * ci) * std::pow(disk.radius, 2 * a);
     if (!(reach2 > 0)) return;
-    std::unordered_map<int, char> pulled;
+    std::unordered_set<int> pulled;
     for (const Walked& w : walked)
         for (int k = 0; k < 3; ++k) {
             const int v = mesh.triangles[w.t][k];
-            if (v == vc || !in_disk(v) || pulled[v]) continue;
-            pulled[v] = 1;
+            if (v == vc || !in_disk(v) || !pulled.insert(v).second) continue;
             const auto z = power(v, w.angle);
             const UV target =
                 w.from_first.apply({P[0] + cr * z[0] - ci * z[1], P[1] + cr * z[1] + ci * z[0]});
