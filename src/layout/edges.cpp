@@ -59,7 +59,7 @@ void place_layout_edges(QuadLayout* layout, const QuadLayoutOptions& options, lo
             measure_quality(&e);
             e.seconds = out.seconds;
             e.edges_smoothed = true;
-            undo_unused_refinement(&e, say);
+            undo_unused_refinement(&e, say, bound);
             const long long added = e.mesh.num_vertices() - e.input_vertices;
             const double before = out.quality.patch_area_max_over_min,
                          after = e.quality.patch_area_max_over_min;
@@ -115,7 +115,7 @@ void place_layout_edges(QuadLayout* layout, const QuadLayoutOptions& options, lo
         }
         out.seconds.curves += since(start);
     }
-    undo_unused_refinement(&out, say);
+    undo_unused_refinement(&out, say, bound);
     if (staircase && out.mesh.num_vertices() - out.input_vertices > bound) {
         // Each crossing of a mesh edge is a vertex: a plate's coarse, regular mesh (genus 11: 20330
         // added, bound 16137, against 9473 along mesh edges) can take the smoothed edges past the
@@ -125,7 +125,7 @@ void place_layout_edges(QuadLayout* layout, const QuadLayoutOptions& options, lo
             std::to_string(bound) + ")");
         staircase->seconds = out.seconds;
         out = std::move(*staircase);
-        undo_unused_refinement(&out, say);
+        undo_unused_refinement(&out, say, bound);
     }
 }
 

@@ -28,6 +28,12 @@ constexpr double kSmallestAngle = 2 * 3.14159265358979323846 / 180;
 // Passes over the vertices at most (each after the first undoes what the last one exposed).
 constexpr int kMaxPasses = 50;
 
+// A vertex inside a layout edge is taken out of it (collapsed into the edge's next vertex) only
+// where the edge turns there by at most this (radians, 10 degrees): the edge stays as smooth as the
+// smoothness test asks (turns over 20 degrees counted), and flat stretches lose the points where
+// they crossed the splits.
+constexpr double kMaxStraightenedTurn = 10 * 3.14159265358979323846 / 180;
+
 double smallest_angle(const Vec3& a, const Vec3& b, const Vec3& c) {
     const Vec3 p[3] = {a, b, c};
     double least = std::numeric_limits<double>::infinity();
@@ -40,8 +46,13 @@ double smallest_angle(const Vec3& a, const Vec3& b, const Vec3& c) {
 
 class Collapser {
 public:
-    explicit Collapser(const QuadLayout& L)
-        : points_(L.mesh.points), tri_(L.mesh.triangles), paths_(L.mesh.num_vertices(), L.edge_paths) {
+    Collapser(const QuadLayout& L, bool straighten)
+        : straighten_(straighten),
+          points_(L.mesh.points),
+          tri_(L.mesh.triangles),
+          patch_(L.triangle_patch),
+          input_vertices_(L.input_vertices),
+          paths_(L.mesh.num_vertices(), L.edge_paths) {
         const int n = L.mesh.num_vertices();
         around_.resize(n);
         for (int t = 0; t < static_cast<int>(tri_.size()); ++t)
@@ -49,29 +60,54 @@ public:
         dead_.assign(tri_.size(), 0);
         keep_.assign(n, 0);
         for (int v = 0; v < L.input_vertices; ++v) keep_[v] = 1;
+        // A vertex inside one layout edge, on no other curve, may leave it (straighten()): its two
+        // neighbours along the edge, kept up to date as vertices leave.
+        along_.assign(n, {-1, -1});
+        std::vector<int> on_paths(n, 0);
+        for (const auto& path : L.edge_paths)
+            for (int v : path) ++on_paths[v];
+        for (const auto& path : L.edge_paths)
+            for (size_t i = 0; i + 1 < path.size(); ++i)
+                if (i > 0 && on_paths[path[i]] == 1) along_[path[i]] = {path[i - 1], path[i + 1]};
         for (const auto& path : L.edge_paths)
             for (int v : path) keep_[v] = 1;
         for (const auto* cycles : {&L.orthogonal_system, &L.s_cycles})
             for (const Cycle& c : *cycles)
-                for (int v : c) keep_[v] = 1;
-        for (int v : L.corner_vertex) keep_[v] = 1;
+                for (int v : c) keep_[v] = 1, along_[v] = {-1, -1};
+        for (int v : L.corner_vertex) keep_[v] = 1, along_[v] = {-1, -1};
+        for (int v = 0; v < L.input_vertices; ++v) along_[v] = {-1, -1};
+        curve_.assign(n, 0);
+        for (const auto& path : L.edge_paths)
+            for (int v : path) curve_[v] = 1;
+        for (const auto* cycles : {&L.orthogonal_system, &L.s_cycles})
+            for (const Cycle& c : *cycles)
+                for (int v : c) curve_[v] = 1;
     }
 
-    // Collapses every vertex it may, later ones first, pass after pass. Returns how many.
+    // Collapses every vertex it may, later ones first, pass after pass; with `straighten`, takes
+    // vertices out of straight stretches of the layout edges too, each pass followed by Delaunay
+    // flips (flip()), which make room for more. Returns how many.
     int run(int first_added) {
         int removed = 0;
         for (int pass = 0; pass < kMaxPasses; ++pass) {
             int now = 0;
             for (int m = static_cast<int>(around_.size()) - 1; m >= first_added; --m)
-                if (!keep_[m] && !around_[m].empty() && collapse(m)) ++now;
+                if (!around_[m].empty() &&
+                    (keep_[m] ? straighten_ && along_[m][0] >= 0 && straighten(m) : collapse(m)))
+                    ++now;
             removed += now;
-            if (now == 0) break;
+            int flipped = 0;
+            if (straighten_)
+                for (int t = 0; t < static_cast<int>(tri_.size()); ++t)
+                    for (int k = 0; k < 3 && !dead_[t]; ++k) flipped += flip(t, k);
+            if (now == 0 && flipped == 0) break;
         }
         return removed;
     }
 
     bool removed(int v) const { return around_[v].empty(); }
-    /// A triangle of each collapsed fan (its patch is the fan's: the vertex was inside a patch).
+    /// The triangles of each collapsed fan (a vertex inside a patch: one patch; one taken out of a
+    /// layout edge: the edge's two).
     const std::vector<int>& changed() const { return changed_; }
     const std::vector<Triangle>& triangles() const { return tri_; }
     bool dead(int t) const { return dead_[t] != 0; }
@@ -89,8 +125,9 @@ private:
 
     // The smallest angle of the triangles m's fan becomes when m moves onto n, or -1 if the move
     // would change the surface, flip or flatten a triangle, break the manifold or make a dividing
-    // chord.
-    double quality_of(int m, int n, const std::vector<int>& ring) const {
+    // chord. `next`: m's other neighbour along its layout edge when m leaves it (the new edge n-next
+    // is part of the edge, not a chord), else -1.
+    double quality_of(int m, int n, const std::vector<int>& ring, int next = -1) const {
         const std::vector<int> ring_n = neighbours(n);
         // Link condition: m and n share exactly the third corners of the two triangles of edge m-n.
         std::vector<int> common, opposite;
@@ -124,7 +161,8 @@ private:
             const Vec3 after = cross(pb - pn, pc - pn);
             if (!(dot(after, before) > 0) || !(norm(after) > 1e-14 * size * size)) return -1;
             for (int x : {b, c})
-                if (!std::binary_search(ring_n.begin(), ring_n.end(), x) && paths_.share_a_path(n, x))
+                if (x != next && !std::binary_search(ring_n.begin(), ring_n.end(), x) &&
+                    paths_.share_a_path(n, x))
                     return -1;
             least = std::min(least, smallest_angle(pn, pb, pc));
         }
@@ -140,40 +178,114 @@ private:
             if (q > best_quality) best_quality = q, best = n;
         }
         if (best < 0) return false;
+        merge(m, best);
+        return true;
+    }
+
+    // Takes m out of its layout edge where the edge runs nearly straight through it: m moves onto
+    // one of its two neighbours along the edge (the better of the two by quality_of()).
+    bool straighten(int m) {
+        const auto [a, b] = along_[m];
+        const Vec3 in = points_[m] - points_[a], out = points_[b] - points_[m];
+        if (!(std::atan2(norm(cross(in, out)), dot(in, out)) <= kMaxStraightenedTurn)) return false;
+        const std::vector<int> ring = neighbours(m);
+        const double qa = quality_of(m, a, ring, b), qb = quality_of(m, b, ring, a);
+        if (!(std::max(qa, qb) > 0)) return false;
+        const int n = qa >= qb ? a : b, other = n == a ? b : a;
+        merge(m, n);
+        for (const auto& [x, y] : {std::pair{n, other}, std::pair{other, n}})
+            if (along_[x][0] >= 0) along_[x][along_[x][0] == m ? 0 : 1] = y;
+        along_[m] = {-1, -1};
+        return true;
+    }
+
+    // Flips edge k of triangle t (corners k, k+1) where the Delaunay condition asks for it and the
+    // surface stays the same: the two triangles are coplanar (inside one input face, or faces in
+    // one plane) and make a convex quadrilateral, the edge is on no curve and not between two input
+    // vertices (the input's own edges, unsplit, stay), and no dividing chord is made. The splits' fans of
+    // slivers round a vertex that stays become fit for collapses.
+    bool flip(int t, int k) {
+        const int u = tri_[t][k], v = tri_[t][(k + 1) % 3], x = tri_[t][(k + 2) % 3];
+        if ((curve_[u] && curve_[v]) || (u < input_vertices_ && v < input_vertices_)) return false;
+        int t2 = -1;
+        for (int s : around_[u])
+            if (s != t && std::find(tri_[s].begin(), tri_[s].end(), v) != tri_[s].end()) t2 = s;
+        if (t2 < 0 || patch_[t2] != patch_[t]) return false;
+        int y = -1;
+        for (int z : tri_[t2])
+            if (z != u && z != v) y = z;
+        if (y < 0 || y == x) return false;
+        const Vec3 &pu = points_[u], &pv = points_[v], &px = points_[x], &py = points_[y];
+        // Delaunay: the angles opposite the edge sum to more than pi.
+        auto angle = [](const Vec3& at, const Vec3& a, const Vec3& b) {
+            const Vec3 e1 = a - at, e2 = b - at;
+            return std::atan2(norm(cross(e1, e2)), dot(e1, e2));
+        };
+        if (!(angle(px, pu, pv) + angle(py, pu, pv) > 3.14159265358979323846 + 1e-9)) return false;
+        const Vec3 before = cross(pv - pu, px - pu);
+        const double size = std::max({norm(pv - pu), norm(px - pu), norm(py - pu), norm(py - px)});
+        if (!(std::abs(dot(py - pu, before)) <= kPlaneTolerance * size * norm(before))) return false;
+        const Vec3 a1 = cross(pu - px, py - px), a2 = cross(pv - py, px - py);
+        if (!(dot(a1, before) > 0) || !(dot(a2, before) > 0)) return false;
+        if (!(norm(a1) > 1e-14 * size * size) || !(norm(a2) > 1e-14 * size * size)) return false;
+        for (int s : around_[x])
+            if (std::find(tri_[s].begin(), tri_[s].end(), y) != tri_[s].end())
+                return false;  // x-y is an edge
+        if (curve_[x] && curve_[y] && paths_.share_a_path(x, y)) return false;
+        tri_[t] = {x, u, y};
+        tri_[t2] = {y, v, x};
+        auto& au = around_[u];
+        au.erase(std::find(au.begin(), au.end(), t2));
+        auto& av = around_[v];
+        av.erase(std::find(av.begin(), av.end(), t));
+        around_[x].push_back(t2);
+        around_[y].push_back(t);
+        changed_.push_back(t);
+        changed_.push_back(t2);
+        return true;
+    }
+
+    // Moves m onto its neighbour n: the two triangles of edge m-n go, the others take n for m.
+    void merge(int m, int n) {
         const std::vector<int> fan = around_[m];
-        changed_.push_back(fan.front());
+        changed_.insert(changed_.end(), fan.begin(), fan.end());
         for (int t : fan) {
             Triangle& f = tri_[t];
-            if (std::find(f.begin(), f.end(), best) != f.end()) {
+            if (std::find(f.begin(), f.end(), n) != f.end()) {
                 dead_[t] = 1;
                 for (int v : f) {
                     auto& a = around_[v];
                     a.erase(std::find(a.begin(), a.end(), t));
                 }
             } else {
-                *std::find(f.begin(), f.end(), m) = best;
-                around_[best].push_back(t);
+                *std::find(f.begin(), f.end(), m) = n;
+                around_[n].push_back(t);
             }
         }
         around_[m].clear();
-        return true;
     }
 
+    const bool straighten_;
     const std::vector<Vec3>& points_;
     std::vector<Triangle> tri_;
+    const std::vector<int>& patch_;
+    const int input_vertices_;
+    std::vector<char> curve_;  // on a layout edge, a cycle or an S-cycle: its edges are not flipped
     std::vector<std::vector<int>> around_;
     std::vector<char> dead_;
     std::vector<char> keep_;
+    std::vector<std::array<int, 2>> along_;  // a vertex's neighbours along its layout edge, or -1
     PathsThrough paths_;  // the layout edges: a new edge along one of them would be a dividing chord
     std::vector<int> changed_;
 };
 
 }  // namespace
 
-int remove_unused_refinement(const QuadLayout& L, QuadLayout* out, std::vector<char>* changed) {
+int remove_unused_refinement(const QuadLayout& L, QuadLayout* out, std::vector<char>* changed,
+                             bool straighten) {
     QC_CHECK(L.corner_uv.size() == L.mesh.triangles.size(),
              "remove_unused_refinement: the layout has no patch maps");
-    Collapser c(L);
+    Collapser c(L, straighten);
     const int removed = c.run(L.input_vertices);
     if (removed == 0) return 0;
     changed->assign(L.cage.num_quads(), 0);
@@ -205,7 +317,10 @@ int remove_unused_refinement(const QuadLayout& L, QuadLayout* out, std::vector<c
         }
     };
     *out = L;
-    for (auto& p : out->edge_paths) renumber(p);
+    for (auto& p : out->edge_paths) {
+        p.erase(std::remove_if(p.begin(), p.end(), [&c](int v) { return c.removed(v); }), p.end());
+        renumber(p);
+    }
     for (auto& cycle : out->orthogonal_system) renumber(cycle);
     for (auto& cycle : out->s_cycles) renumber(cycle);
     renumber(out->corner_vertex);
@@ -215,20 +330,26 @@ int remove_unused_refinement(const QuadLayout& L, QuadLayout* out, std::vector<c
     return removed;
 }
 
-void undo_unused_refinement(QuadLayout* L, const std::function<void(const std::string&)>& say) {
+void undo_unused_refinement(QuadLayout* L, const std::function<void(const std::string&)>& say,
+                            long long bound) {
     const auto start = std::chrono::steady_clock::now();
-    QuadLayout lean;
-    std::vector<char> changed;
-    if (const int removed = remove_unused_refinement(*L, &lean, &changed); removed > 0) {
-        parameterize_patches(&lean, &changed);
-        if (const std::string problem = verify_quad_layout(lean); problem.empty()) {
-            measure_quality(&lean);
-            say("refinement: " + std::to_string(removed) + " vertices no layout curve runs through removed");
-            lean.seconds = L->seconds;
-            *L = std::move(lean);
-        } else {
-            say("refinement: keeping the vertices no layout curve runs through (without them: " + problem +
-                ")");
+    for (const bool straighten : {false, true}) {
+        if (straighten && !(bound >= 0 && L->mesh.num_vertices() - L->input_vertices > bound)) break;
+        const std::string what = straighten ? "vertices taken out of straight stretches of the layout edges"
+                                            : "vertices no layout curve runs through";
+        QuadLayout lean;
+        std::vector<char> changed;
+        if (const int removed = remove_unused_refinement(*L, &lean, &changed, straighten); removed > 0) {
+            parameterize_patches(&lean, &changed);
+            if (const std::string problem = verify_quad_layout(lean); problem.empty()) {
+                measure_quality(&lean);
+                say("refinement: " + std::to_string(removed) + " " + what + " removed" +
+                    (straighten ? " (over the bound of " + std::to_string(bound) + " without)" : ""));
+                lean.seconds = L->seconds;
+                *L = std::move(lean);
+            } else {
+                say("refinement: keeping the " + what + " (without them: " + problem + ")");
+            }
         }
     }
     L->seconds.parameterization +=

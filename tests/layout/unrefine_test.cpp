@@ -7,8 +7,10 @@
 #include <algorithm>
 #include <array>
 #include <set>
+#include <string>
 #include <utility>
 
+#include "detail/curves.h"
 #include "detail/patches.h"
 #include "quadcage/core/shapes.h"
 #include "quadcage/core/validate.h"
@@ -157,27 +159,93 @@ TEST(Unrefine, UndoesSplitsInsidePatchesExactlyAndKeepsEveryCurve) {
     EXPECT_EQ(verify_quad_layout(L), "");
 }
 
-TEST(Unrefine, KeepsVerticesCurvesRunThroughAndRenumbersThem) {
+TEST(Unrefine, KeepsVerticesCyclesRunThroughAndRenumbersThem) {
     const QuadLayout original = torus_layout();
     const std::vector<char> on_curve = curve_vertices(original);
+    ASSERT_FALSE(original.orthogonal_system.empty());
     QuadLayout L = original;
-    // An unused split first (lower index), then a split of a layout edge's mesh edge, which the
-    // layout edge then runs through: the first goes, the second stays and moves down by one.
+    // An unused split first (lower index), then a split of a mesh edge of a cycle of the orthogonal
+    // system that no layout edge runs along, which the cycle then runs through: the first goes, the
+    // second stays (cycles are never straightened) and moves down by one.
     const auto [a, b] = interior_edge(original, on_curve, 0);
     const int unused = split_edge(&L, a, b);
-    const std::vector<int>& path = original.edge_paths[0];
-    const int used = split_edge(&L, path[0], path[1]);
-    L.edge_paths[0].insert(L.edge_paths[0].begin() + 1, used);
+    std::vector<int>& cycle = L.orthogonal_system[0];
+    const PathsThrough paths(L.mesh.num_vertices(), original.edge_paths);
+    size_t i = 0;
+    while (i < cycle.size() && paths.share_a_path(cycle[i], cycle[(i + 1) % cycle.size()])) ++i;
+    ASSERT_LT(i, cycle.size());
+    const int c0 = cycle[i], c1 = cycle[(i + 1) % cycle.size()];
+    const int used = split_edge(&L, c0, c1);
+    cycle.insert(cycle.begin() + static_cast<std::ptrdiff_t>(i) + 1, used);
     ASSERT_EQ(used, unused + 1);
     std::vector<char> changed;
     QuadLayout lean;
     EXPECT_EQ(remove_unused_refinement(L, &lean, &changed), 1);
     L = std::move(lean);
     ASSERT_EQ(L.mesh.num_vertices(), original.mesh.num_vertices() + 1);
-    EXPECT_EQ(L.edge_paths[0][1], unused) << "the kept split takes the removed one's index";
-    EXPECT_EQ(L.mesh.points[unused], (original.mesh.points[path[0]] + original.mesh.points[path[1]]) * 0.5);
-    parameterize_patches(&L);  // the split layout edge changed two patches' boundaries: map them all
+    EXPECT_EQ(L.orthogonal_system[0][i + 1], unused) << "the kept split takes the removed one's index";
+    EXPECT_EQ(L.mesh.points[unused], (original.mesh.points[c0] + original.mesh.points[c1]) * 0.5);
+    EXPECT_EQ(L.edge_paths, original.edge_paths);
+    parameterize_patches(&L);
     EXPECT_EQ(verify_quad_layout(L), "");
+}
+
+TEST(Unrefine, TakesVerticesOutOfStraightStretchesOfLayoutEdgesOnlyWhenAsked) {
+    // A split of a layout edge's first mesh edge, which the layout edge runs straight through: it
+    // stays unless asked to straighten. Then it goes (a vertex on an input edge slides along it
+    // exactly), with the other added vertices of the (smoothed) layout edges where they run
+    // straight, and the layout is the same surface with the same corners and edge ends.
+    const QuadLayout original = torus_layout();
+    QuadLayout L = original;
+    const std::vector<int>& path = original.edge_paths[0];
+    const int used = split_edge(&L, path[0], path[1]);
+    L.edge_paths[0].insert(L.edge_paths[0].begin() + 1, used);
+    parameterize_patches(&L);
+    ASSERT_EQ(verify_quad_layout(L), "");
+    std::vector<char> changed;
+    QuadLayout lean;
+    EXPECT_EQ(remove_unused_refinement(L, &lean, &changed), 0);
+    const int removed = remove_unused_refinement(L, &lean, &changed, true);
+    EXPECT_GE(removed, 1);
+    ASSERT_EQ(lean.mesh.num_vertices(), L.mesh.num_vertices() - removed);
+    for (const Vec3& p : lean.mesh.points) EXPECT_NE(p, L.mesh.points[used]) << "the split stayed";
+    for (int v = 0; v < lean.input_vertices; ++v) EXPECT_EQ(lean.mesh.points[v], L.mesh.points[v]) << v;
+    ASSERT_EQ(lean.edge_paths.size(), L.edge_paths.size());
+    for (size_t e = 0; e < L.edge_paths.size(); ++e) {
+        EXPECT_EQ(lean.mesh.points[lean.edge_paths[e].front()], L.mesh.points[L.edge_paths[e].front()]) << e;
+        EXPECT_EQ(lean.mesh.points[lean.edge_paths[e].back()], L.mesh.points[L.edge_paths[e].back()]) << e;
+        EXPECT_LT(lean.edge_paths[e].size(), L.edge_paths[e].size() + (e == 0 ? 0 : 1)) << e;
+    }
+    for (size_t c = 0; c < L.corner_vertex.size(); ++c)
+        EXPECT_EQ(lean.mesh.points[lean.corner_vertex[c]], L.mesh.points[L.corner_vertex[c]]) << c;
+    auto area = [](const Mesh& m) {
+        double a = 0;
+        for (const Triangle& f : m.triangles)
+            a += 0.5 * norm(cross(m.points[f[1]] - m.points[f[0]], m.points[f[2]] - m.points[f[0]]));
+        return a;
+    };
+    EXPECT_NEAR(area(lean.mesh), area(L.mesh), 1e-12 * area(L.mesh));
+    parameterize_patches(&lean, &changed);
+    EXPECT_EQ(verify_quad_layout(lean), "");
+}
+
+// undo_unused_refinement() straightens only a layout over the bound it is given.
+TEST(Unrefine, StraightensOnlyOverTheBound) {
+    const QuadLayout original = torus_layout();
+    const int added = original.mesh.num_vertices() - original.input_vertices;
+    ASSERT_GT(added, 0);
+    for (const long long bound : {-1LL, static_cast<long long>(added), 0LL}) {
+        QuadLayout L = original;
+        std::vector<std::string> said;
+        undo_unused_refinement(
+            &L, [&said](const std::string& m) { said.push_back(m); }, bound);
+        const bool straightened = std::any_of(said.begin(), said.end(), [](const std::string& m) {
+            return m.find("taken out of straight stretches") != std::string::npos;
+        });
+        EXPECT_EQ(straightened, bound == 0) << "bound " << bound;
+        EXPECT_EQ(L.mesh.num_vertices() < original.mesh.num_vertices(), bound == 0) << "bound " << bound;
+        EXPECT_EQ(verify_quad_layout(L), "") << "bound " << bound;
+    }
 }
 
 }  // namespace

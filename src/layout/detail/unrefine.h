@@ -18,21 +18,31 @@ namespace quadcage::layout::detail {
 /// collapse keeps the mesh a manifold (link condition), and no new edge joins two vertices of one
 /// layout edge without being part of it (the dividing chords parameterize_patches() cannot map).
 /// Of the neighbours that qualify, the one whose new triangles have the largest smallest angle is
-/// taken. Later vertices go first (a split made inside another split's triangles is undone before
-/// it), over passes until one removes nothing. Every kept vertex stays where it is; vertices are
-/// renumbered in their order (the input's first, unchanged), and the mesh, triangle_patch,
-/// corner_vertex, edge_paths, the cycles and the corner_uv of the triangles kept as they were follow.
-/// Returns the number of vertices removed. Only if that is not 0, *out is set to the layout without
-/// them (nothing is copied otherwise), and the patches where a vertex was removed are marked in
-/// *changed (one flag per cage quad): map them again (parameterize_patches() with `only`) and verify
-/// the result. quality is not recomputed.
-/// \pre layout is a verified layout (verify_quad_layout() returns "").
-int remove_unused_refinement(const QuadLayout& layout, QuadLayout* out, std::vector<char>* changed);
+/// taken. With `straighten`, a vertex inside one layout edge (on no other edge, cycle or S-cycle)
+/// is taken out of it the same way too, into one of its two neighbours along the edge, where the
+/// edge turns there by at most 10 degrees, and edges inside a plane are flipped where the
+/// Delaunay condition asks (never an edge between two input vertices or along a curve, nor into a
+/// dividing chord): on flat
+/// stretches the edges lose the points where they crossed splits (a straight edge across a flat
+/// input face keeps only its crossings of the input's edges). That moves the layout edges a little,
+/// so it is only for a layout over the bound (undo_unused_refinement()). Later vertices go first (a split
+/// made inside another split's triangles is undone before it), over passes until one removes nothing. Every
+/// kept vertex stays where it is; vertices are renumbered in their order (the input's first, unchanged), and
+/// the mesh, triangle_patch, corner_vertex, edge_paths (without the vertices taken out), the cycles and the
+/// corner_uv of the triangles kept as they were follow. Returns the number of vertices removed. Only if that
+/// is not 0, *out is set to the layout without them (nothing is copied otherwise), and the patches where a
+/// vertex was removed are marked in *changed (one flag per cage quad): map them again (parameterize_patches()
+/// with `only`) and verify the result. quality is not recomputed. \pre layout is a verified layout
+/// (verify_quad_layout() returns "").
+int remove_unused_refinement(const QuadLayout& layout, QuadLayout* out, std::vector<char>* changed,
+                             bool straighten = false);
 
 /// remove_unused_refinement() on *L, the changed patches mapped again, kept if the result verifies
-/// (its quality then measured again); one progress line says which. Its time is added to
+/// (its quality then measured again); one progress line says which. Then, if bound >= 0 and the
+/// layout still adds more vertices than that, the same with `straighten`. Its time is added to
 /// L->seconds.parameterization.
 /// \pre *L is a verified layout.
-void undo_unused_refinement(QuadLayout* L, const std::function<void(const std::string&)>& say);
+void undo_unused_refinement(QuadLayout* L, const std::function<void(const std::string&)>& say,
+                            long long bound = -1);
 
 }  // namespace quadcage::layout::detail
