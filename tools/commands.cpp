@@ -170,6 +170,7 @@ void apply(const EmbeddingFlags& flags, layout::QuadLayoutOptions* options) {
     options->embedding_cone_sweeps = flags.cone_sweeps;
     options->smooth_edges = !flags.staircase_edges;
     options->s_cycles_from_necks = !flags.no_necks;
+    options->split_long_edges = !flags.no_long_edge_splits;
     if (!flags.choose_by_shape) options->score = fit::level1_fit_score();
     options->edge_embedding_iterations = flags.edge_embedding;
     options->edge_embedding_max_vertices = flags.edge_embedding_max_vertices;
@@ -200,6 +201,7 @@ std::vector<std::string> embedding_arguments(const EmbeddingFlags& flags) {
         args.insert(args.end(), {"--embedding-cone-sweeps", std::to_string(flags.cone_sweeps)});
     if (flags.staircase_edges) args.push_back("--staircase-edges");
     if (flags.no_necks) args.push_back("--no-necks");
+    if (flags.no_long_edge_splits) args.push_back("--no-long-edge-splits");
     if (flags.choose_by_shape) args.insert(args.end(), {"--choose-s-cycles", "shape"});
     if (flags.edge_embedding != defaults.edge_embedding)
         args.insert(args.end(), {"--edge-embedding", std::to_string(flags.edge_embedding)});
@@ -365,6 +367,7 @@ int run_generate(const GenerateOptions& o) {
         w.holes = o.genus - 1;
         w.resolution = std::max(2, o.resolution);
         w.ribs = o.ribs;
+        w.cad = o.cad;
         mesh = shapes::wheel(w);
     } else {
         throw InvalidInput("unknown shape '" + o.shape + "' (use sphere, torus, plate, limbs, handles or wheel)");

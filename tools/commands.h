@@ -37,6 +37,7 @@ struct EmbeddingFlags {
     int cone_sweeps = 0;
     bool staircase_edges = false;  ///< --staircase-edges: the layout edges not smoothed
     bool no_necks = false;         ///< --no-necks: the S-cycles from the handle loops, not the necks
+    bool no_long_edge_splits = false;  ///< --no-long-edge-splits: the input's long edges not split first
     bool choose_by_shape = false;  ///< --choose-s-cycles shape: by patch areas and angles, not a level-1 fit
     /// --edge-embedding N: Newton iterations of the global edge embedding (0: off)
     int edge_embedding = quadcage::layout::QuadLayoutOptions{}.edge_embedding_iterations;
@@ -97,6 +98,7 @@ struct GenerateOptions {
     unsigned seed = 1;   ///< limbs: which figure; handles: where the bumps go.
     int bumps = 0;       ///< handles only: bumps and dents on the body.
     int ribs = 0;        ///< wheel only: radial ribs round the hub.
+    bool cad = false;    ///< wheel only: flat faces as fans of long, thin triangles (a CAD export's).
     std::string output;
 };
 int run_generate(const GenerateOptions& options);

@@ -56,6 +56,12 @@ std::vector<CLI::Option*> add_embedding_flags(CLI::App* cmd, quadcage::cli::Embe
         "Do not build the layout with S-cycles round the surface's necks (by default, genus 2-12: the\n"
         "shortest loops that cut it into pairs of pants, joined in pairs into T-shirts; that layout\n"
         "is kept when it is the better, see --choose-s-cycles, and the README). Saves its time"));
+    all.push_back(cmd->add_flag(
+        "--no-long-edge-splits", flags.no_long_edge_splits,
+        "Do not split the input's long edges before the layout (by default, where triangles with\n"
+        "edges longer than 4 times the median and than an eighth of a cage quad's side cover a tenth\n"
+        "of the surface, those edges are split at their midpoints, so the layout curves do not follow\n"
+        "a CAD mesh's fans of long, thin triangles; the splits no curve needs are undone at the end)"));
     all.push_back(
         cmd->add_option_function<std::string>(
                "--choose-s-cycles",
@@ -257,6 +263,10 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(0, 64));
     gen_cmd->add_option("--ribs", gen.ribs, "wheel: radial ribs one cell high round the hub (default 0)")
         ->check(CLI::Range(0, 64));
+    gen_cmd->add_flag(
+        "--cad", gen.cad,
+        "wheel: its flat faces tessellated as a CAD system exports a solid: fans of long, thin\n"
+        "triangles between the vertices of their borders (input_wheel's class)");
     gen_cmd->add_option("--seed", gen.seed, "limbs: which figure; handles: where the bumps go (default 1)");
     gen_cmd->add_option("-o,--output", gen.output, "Output file (.obj or .ply)")->required();
 

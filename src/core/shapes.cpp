@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <iterator>
 #include <map>
 #include <random>
 #include <string>
@@ -449,6 +450,101 @@ Mesh body_with_handles(const HandleBodyOptions& o) {
     return mesh;
 }
 
+// The chordal tolerance of a wheel's `cad` tessellation, relative to its bounding box's diagonal.
+constexpr double kCadTolerance = 1e-3;
+
+Mesh flat_faces_as_fans(const Mesh& input, double relative_tolerance) {
+    Mesh mesh = input;
+    const int n = mesh.num_vertices();
+    Vec3 lo = n > 0 ? mesh.points[0] : Vec3{}, hi = lo;
+    for (const Vec3& p : mesh.points)
+        lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)},
+        hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
+    const double tolerance = relative_tolerance * norm(hi - lo);
+    std::vector<std::vector<int>> around(n);
+    for (int t = 0; t < mesh.num_triangles(); ++t)
+        for (int v : mesh.triangles[t]) around[v].push_back(t);
+    std::vector<char> dead(mesh.triangles.size(), 0);
+    auto ring_of = [&](int v) {
+        std::vector<int> ring;
+        for (int t : around[v])
+            for (int x : mesh.triangles[t])
+                if (x != v) ring.push_back(x);
+        std::sort(ring.begin(), ring.end());
+        ring.erase(std::unique(ring.begin(), ring.end()), ring.end());
+        return ring;
+    };
+    // Moves v onto its neighbour u if that keeps the mesh a manifold (v and u share exactly the
+    // third corners of edge v-u's two triangles) and every moved triangle its orientation.
+    auto collapse = [&](int v, int u, const std::vector<int>& ring, const Vec3& normal) {
+        const std::vector<int> ring_u = ring_of(u);
+        std::vector<int> common, opposite;
+        std::set_intersection(ring.begin(), ring.end(), ring_u.begin(), ring_u.end(),
+                              std::back_inserter(common));
+        for (int t : around[v]) {
+            const Triangle& f = mesh.triangles[t];
+            if (std::find(f.begin(), f.end(), u) == f.end()) continue;
+            for (int x : f)
+                if (x != v && x != u) opposite.push_back(x);
+        }
+        std::sort(opposite.begin(), opposite.end());
+        if (opposite.size() != 2 || opposite != common) return false;
+        for (int t : around[v]) {
+            Triangle f = mesh.triangles[t];
+            if (std::find(f.begin(), f.end(), u) != f.end()) continue;
+            *std::find(f.begin(), f.end(), v) = u;
+            const Vec3 a = mesh.points[f[0]], b = mesh.points[f[1]], c = mesh.points[f[2]];
+            const Vec3 area = cross(b - a, c - a);
+            const double size = std::max({norm(b - a), norm(c - b), norm(a - c)});
+            if (!(dot(area, normal) > std::max(0.87 * norm(area), 1e-12 * size * size))) return false;
+        }
+        for (int t : std::vector<int>(around[v])) {
+            Triangle& f = mesh.triangles[t];
+            if (std::find(f.begin(), f.end(), u) != f.end()) {
+                dead[t] = 1;
+                for (int x : f) around[x].erase(std::find(around[x].begin(), around[x].end(), t));
+            } else {
+                *std::find(f.begin(), f.end(), v) = u;
+                around[u].push_back(t);
+            }
+        }
+        around[v].clear();
+        return true;
+    };
+    for (bool changed = true; changed;) {
+        changed = false;
+        for (int v = 0; v < n; ++v) {
+            if (around[v].empty()) continue;
+            Vec3 normal{0, 0, 0};
+            for (int t : around[v]) {
+                const Triangle& f = mesh.triangles[t];
+                normal += cross(mesh.points[f[1]] - mesh.points[f[0]], mesh.points[f[2]] - mesh.points[f[0]]);
+            }
+            if (!(norm(normal) > 0)) continue;
+            const Vec3 unit = normal * (1 / norm(normal));
+            const std::vector<int> ring = ring_of(v);
+            bool flat = true;
+            for (int x : ring)
+                flat = flat && std::abs(dot(mesh.points[x] - mesh.points[v], unit)) <= tolerance;
+            if (!flat) continue;
+            for (int u : ring)
+                if (collapse(v, u, ring, unit)) {
+                    changed = true;
+                    break;
+                }
+        }
+    }
+    std::vector<int> id(n, -1);
+    Mesh out;
+    for (int v = 0; v < n; ++v)
+        if (!around[v].empty()) id[v] = out.num_vertices(), out.points.push_back(mesh.points[v]);
+    for (size_t t = 0; t < mesh.triangles.size(); ++t)
+        if (!dead[t])
+            out.triangles.push_back(
+                {id[mesh.triangles[t][0]], id[mesh.triangles[t][1]], id[mesh.triangles[t][2]]});
+    return out;
+}
+
 Mesh wheel(const WheelOptions& o) {
     require_in(o.holes, 0, 64, "wheel", "holes");
     require_in(o.resolution, 2, 16, "wheel", "resolution");
@@ -520,6 +616,7 @@ Mesh wheel(const WheelOptions& o) {
     };
     Mesh mesh = voxel_boundary(n, n, 3 * res, res, solid);
     taubin_smooth(&mesh, o.smoothing);
+    if (o.cad) mesh = flat_faces_as_fans(mesh, kCadTolerance);
     // The holes are wide against the voxels and every layer is well joined, so the genus is the
     // axle's handle and one per hole.
     const std::int64_t chi = std::int64_t{mesh.num_vertices()} - 3 * std::int64_t{mesh.num_triangles()} / 2 +

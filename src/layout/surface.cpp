@@ -167,6 +167,19 @@ std::vector<int> Surface::split_edges(const std::vector<std::pair<int, int>>& ed
     return result;
 }
 
+int split_long_edges(Surface* s, double max_length) {
+    const int before = s->num_vertices();
+    for (;;) {
+        std::vector<std::pair<int, int>> long_edges;
+        for (int h = 0; h < s->num_half_edges(); ++h)
+            if (s->from(h) < s->to(h) && s->length(h) > max_length)
+                long_edges.emplace_back(s->from(h), s->to(h));
+        if (long_edges.empty()) break;
+        s->split_edges(long_edges);
+    }
+    return s->num_vertices() - before;
+}
+
 void insert_midpoints(std::vector<std::vector<int>>& curves, const std::vector<std::array<int, 3>>& split,
                       bool closed) {
     if (split.empty()) return;

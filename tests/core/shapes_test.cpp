@@ -606,5 +606,78 @@ TEST(ShapesWheel, ClosedManifoldOfGenusHolesPlusOneDeterministic) {
     }
 }
 
+// A cube's faces tessellated as a CAD export (flat_faces_as_fans): split 1-to-4 three times, every
+// vertex inside a face goes and those on its 12 edges stay (their rings are not flat), on the same
+// surface.
+TEST(ShapesFlatFacesAsFans, CubeKeepsOnlyTheVerticesOfItsEdges) {
+    Mesh cube;
+    for (int i = 0; i < 8; ++i)
+        cube.points.push_back({i & 1 ? 1.0 : -1.0, i & 2 ? 1.0 : -1.0, i & 4 ? 1.0 : -1.0});
+    // Two outward triangles per face (corners listed counter-clockwise seen from outside).
+    const int faces[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
+                             {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+    for (const auto& f : faces) {
+        cube.triangles.push_back({f[0], f[1], f[2]});
+        cube.triangles.push_back({f[0], f[2], f[3]});
+    }
+    ASSERT_TRUE(validate(cube).quaddable());
+    Mesh fine = cube;
+    for (int i = 0; i < 3; ++i) fine = subdivide_midpoint(fine);
+    const Mesh fans = shapes::flat_faces_as_fans(fine, 1e-9);
+    const ValidationReport r = validate(fans);
+    ASSERT_TRUE(r.quaddable()) << r.error_summary();
+    EXPECT_EQ(r.components[0].genus, 0);
+    EXPECT_EQ(fans.num_vertices(), 8 + 12 * 7);  // 8 segments an edge after three splits
+    auto area = [](const Mesh& m) {
+        double a = 0;
+        for (const Triangle& t : m.triangles)
+            a += 0.5 * norm(cross(m.points[t[1]] - m.points[t[0]], m.points[t[2]] - m.points[t[0]]));
+        return a;
+    };
+    EXPECT_NEAR(area(fans), 24.0, 1e-12);
+    for (const Vec3& p : fans.points) {
+        const int on_faces = (std::abs(std::abs(p.x) - 1) < 1e-15) + (std::abs(std::abs(p.y) - 1) < 1e-15) +
+                             (std::abs(std::abs(p.z) - 1) < 1e-15);
+        EXPECT_GE(on_faces, 2) << "a vertex inside a face stayed: " << p.x << " " << p.y << " " << p.z;
+    }
+}
+
+// The wheel tessellated as a CAD export (issue 20: input_wheel's back face, fans of long, thin
+// triangles): a subset of the smoothed wheel's vertices, the same genus (wheel() checks it), the
+// same bits each time, and a large part of its area in thin triangles, which the smoothed wheel has
+// none of.
+TEST(ShapesWheel, CadTessellationHasFansOfThinTrianglesOnTheSameVertices) {
+    shapes::WheelOptions o;
+    o.holes = 6;
+    const Mesh smooth = shapes::wheel(o);
+    o.cad = true;
+    const Mesh cad = shapes::wheel(o);
+    EXPECT_EQ(shapes::wheel(o).points, cad.points);
+    const ValidationReport r = validate(cad);
+    ASSERT_TRUE(r.quaddable()) << r.error_summary();
+    EXPECT_EQ(r.components[0].genus, 7);
+    EXPECT_LT(cad.num_vertices(), smooth.num_vertices() * 3 / 4);
+    std::vector<Vec3> kept = smooth.points;
+    auto less = [](const Vec3& a, const Vec3& b) {
+        return std::tie(a.x, a.y, a.z) < std::tie(b.x, b.y, b.z);
+    };
+    std::sort(kept.begin(), kept.end(), less);
+    for (const Vec3& p : cad.points) EXPECT_TRUE(std::binary_search(kept.begin(), kept.end(), p, less));
+    // The share of the area in triangles whose longest edge is over 10 times their height.
+    auto thin_share = [](const Mesh& m) {
+        double thin = 0, all = 0;
+        for (const Triangle& t : m.triangles) {
+            const Vec3 a = m.points[t[0]], b = m.points[t[1]], c = m.points[t[2]];
+            const double area = 0.5 * norm(cross(b - a, c - a));
+            const double longest = std::max({norm(b - a), norm(c - b), norm(a - c)});
+            all += area;
+            if (longest * longest > 10 * 2 * area) thin += area;
+        }
+        return thin / all;
+    };
+    EXPECT_GT(thin_share(cad), 0.1);
+    EXPECT_EQ(thin_share(smooth), 0.0);
+}
+
 }  // namespace
 }  // namespace quadcage

@@ -179,6 +179,36 @@ TEST_P(QuadLayoutWheel, HolesInARingRoundAHubGetAMinimalLayout) {
 INSTANTIATE_TEST_SUITE_P(Wheels, QuadLayoutWheel,
                          ::testing::Values(std::make_tuple(0, 0), std::make_tuple(3, 0), std::make_tuple(5, 8)));
 
+// input_wheel's tessellation (issue 20): a wheel exported as a CAD system does, its flat faces fans
+// of long, thin triangles (shapes::flat_faces_as_fans()). The layout curves, routed along mesh
+// edges, would follow the fans; the long edges are split first (QuadLayoutOptions::
+// split_long_edges), and that layout verifies, stays within the bound and is better balanced than
+// the one without (tools/bench/layout_classes.sh measures the fits).
+TEST(QuadLayoutWheel, CadTessellationGetsItsLongEdgesSplitAndABetterBalance) {
+    shapes::WheelOptions w;
+    w.holes = 6;
+    w.cad = true;
+    const Mesh input = shapes::wheel(w);
+    std::vector<std::string> said;
+    layout::QuadLayoutOptions o;
+    o.progress = [&said](const std::string& m) { said.push_back(m); };
+    const QuadLayout split = build_quad_layout(input, o);
+    expect_valid_layout(split, input, 7);
+    EXPECT_TRUE(says(said, "long edges split: "));
+    EXPECT_LE(split.mesh.num_vertices() - split.input_vertices,
+              vertices_added_bound(split.input_vertices, split.cage.num_corners()));
+    o.split_long_edges = false;
+    said.clear();
+    const QuadLayout plain = build_quad_layout(input, o);
+    expect_valid_layout(plain, input, 7);
+    EXPECT_FALSE(says(said, "long edges split: "));
+    EXPECT_LT(split.quality.patch_area_max_over_min, plain.quality.patch_area_max_over_min);
+    std::cout << "CAD wheel, genus 7: patch area max/min " << plain.quality.patch_area_max_over_min << " -> "
+              << split.quality.patch_area_max_over_min << ", corner angle deviation "
+              << plain.quality.corner_angle_mean_deviation_deg << " -> "
+              << split.quality.corner_angle_mean_deviation_deg << " deg\n";
+}
+
 // Room for the curves is made by splitting edges, and must stay within vertices_added_bound()
 // (issue #20). When a failed search split every chord round it, and the patch maps every chord
 // between layout curves, each new curve hugged the room made for the last: a plate of genus 8

@@ -115,12 +115,21 @@ struct HandleBodyOptions {
 /// \throw InvalidInput if the options are out of range or the mesh would pass 1e8 triangles.
 Mesh body_with_handles(const HandleBodyOptions& options = {});
 
+/// The surface tessellated again as a CAD system exports a solid to a chordal tolerance: every
+/// vertex whose neighbours all lie within relative_tolerance (of the bounding box's diagonal) of
+/// the plane through it normal to its fan is removed, over passes, where a collapse into a
+/// neighbour keeps the mesh a manifold and every moved triangle within 30 degrees of that normal.
+/// Flat and nearly flat faces become fans of long, thin triangles between the vertices of their
+/// borders (input_wheel's back face); curved parts keep their vertices. The genus is kept.
+Mesh flat_faces_as_fans(const Mesh& mesh, double relative_tolerance);
+
 /// Options for wheel().
 struct WheelOptions {
     int holes = 6;        ///< Holes in a ring round the axle, 0..64: the genus is holes + 1.
     int resolution = 3;   ///< Voxels per cell (a cell is the disc's thickness), 2..16.
     int smoothing = 12;   ///< Taubin smoothing passes that round the voxels, 0..200.
     int ribs = 0;         ///< Radial ribs one cell high from the hub towards the holes, 0..64.
+    bool cad = false;     ///< Tessellated as a CAD export (flat_faces_as_fans(), tolerance 1e-3).
 };
 
 /// A wheel, the shape class of input_wheel (issue 20): a disc one cell thick with an axle hole

@@ -37,6 +37,14 @@ struct QuadLayoutOptions {
     /// vertices_added_bound(). The handle loops' body cut winds long S-cycles round a
     /// ring of holes (a wheel's, input_wheel's); these stay short. The README has the figures.
     bool s_cycles_from_necks = true;
+    /// Before the orthogonal system, split (at midpoints, repeatedly) every edge longer than 4 times
+    /// the median edge length and than an eighth of a cage quad's side (sqrt(area / quads)): a CAD
+    /// tessellation's flat faces are fans of long, thin triangles that the layout curves, routed
+    /// along mesh edges, would follow into stacks of thin patches (input_wheel's back face). Only
+    /// where the triangles with such an edge cover a tenth of the surface or more. The splits no
+    /// layout curve runs through are undone at the end, as the curves' own are; they do not count
+    /// against the constructions' vertex budgets, but do against vertices_added_bound() at the end.
+    bool split_long_edges = true;
     /// With s_cycles_from_handle_loops, where the handle loops gave the S-cycles: build the layout
     /// with Algorithm 1's S-cycles too (unless the first layout is past vertices_added_bound();
     /// abandoned once it refines past it) and keep it if both its patch area max/min and its

@@ -53,6 +53,10 @@ private:
     std::vector<int> out_;
 };
 
+/// Splits every edge longer than max_length at its midpoint, over passes until none is (input
+/// vertices stay, in order; new ones are appended). Returns the number of vertices added.
+int split_long_edges(Surface* s, double max_length);
+
 /// Inserts into each curve the midpoints of its split edges. `split` lists (a, b, m): edge a-b was
 /// split at new vertex m. Closed curves also walk the edge from their last vertex to their first.
 void insert_midpoints(std::vector<std::vector<int>>& curves, const std::vector<std::array<int, 3>>& split,
