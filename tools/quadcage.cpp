@@ -58,10 +58,11 @@ std::vector<CLI::Option*> add_embedding_flags(CLI::App* cmd, quadcage::cli::Embe
         "is kept when it is the better, see --choose-s-cycles, and the README). Saves its time"));
     all.push_back(cmd->add_flag(
         "--no-long-edge-splits", flags.no_long_edge_splits,
-        "Do not split the input's long edges before the layout (by default, where triangles with\n"
-        "edges longer than 4 times the median and than an eighth of a cage quad's side cover a tenth\n"
-        "of the surface, those edges are split at their midpoints, so the layout curves do not follow\n"
-        "a CAD mesh's fans of long, thin triangles; the splits no curve needs are undone at the end)"));
+        "Do not split the input's long edges before the layout (by default, edges longer than 4 times\n"
+        "the median and than an eighth of a cage quad's side are split at their midpoints where the\n"
+        "triangles with such an edge between coplanar triangles (within 1 degree) cover a tenth of the\n"
+        "surface, so the layout curves do not follow a CAD mesh's fans of long, thin triangles; the\n"
+        "splits no curve needs are undone at the end)"));
     all.push_back(
         cmd->add_option_function<std::string>(
                "--choose-s-cycles",

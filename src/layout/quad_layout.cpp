@@ -68,31 +68,37 @@ struct Cycles {
     int long_edge_splits = 0;
 };
 
+// The cosine of the largest angle between the triangles of a long edge that counts for
+// long_edge_split_length() (1 degree): a CAD export's flat faces, not a long protrusion's stretched
+// triangles round its axis.
+constexpr double kFlatEdgeCos = 0.9998476951563913;
+
 // The length past which build_cycles() splits the edges (QuadLayoutOptions::split_long_edges), if
-// it does: 4 times the median edge length (only the outliers of a tessellation; input_wheel's fans
-// reach 60 times it), and an eighth of a cage quad's side, a level-3 control face's (so a mesh that
-// is coarse all over, like a generated plate, keeps its edges: its coarseness is the 1-to-4
-// splits' business). Only where the triangles with such an edge cover a tenth of the surface or
-// more (input_wheel 82%; kitten 3.5%, fertility 0.4%, boot 0.1%, the other shared meshes none):
-// a few long edges do not make the curves stack up, and splitting them would only move the layout.
-std::optional<double> long_edge_split_length(const Mesh& mesh, int quads) {
-    // Each edge of the closed mesh is counted from both its triangles, which leaves the median as it is.
-    std::vector<double> lengths, longest, areas;
-    lengths.reserve(3 * mesh.triangles.size());
-    double area = 0;
-    for (const Triangle& t : mesh.triangles) {
-        const Vec3 &a = mesh.points[t[0]], &b = mesh.points[t[1]], &c = mesh.points[t[2]];
-        const double ab = norm(b - a), bc = norm(c - b), ca = norm(a - c);
-        lengths.insert(lengths.end(), {ab, bc, ca});
-        longest.push_back(std::max({ab, bc, ca}));
-        area += areas.emplace_back(0.5 * norm(cross(b - a, c - a)));
-    }
+// it does: 4 times the median edge length (only the outliers of a tessellation; input_wheel's
+// fans reach 60 times it), and an eighth of a cage quad's side, a level-3 control face's (so a mesh
+// that is coarse all over, like a generated plate, keeps its edges: its coarseness is the 1-to-4
+// splits' business). Only where the triangles with such an edge that is flat (kFlatEdgeCos) cover
+// a tenth of the surface or more (input_wheel 80%; the figures with limbs of tools/bench/layout_classes.sh
+// 3-8%, whose layouts were worse split; the other shared meshes none): a few long edges do not make
+// the curves stack up, and splitting them would only move the layout.
+std::optional<double> long_edge_split_length(const detail::Surface& s, int quads) {
+    const Mesh& mesh = s.mesh();
+    std::vector<double> lengths, areas;
+    lengths.reserve(s.num_half_edges() / 2);
+    for (int h = 0; h < s.num_half_edges(); ++h)
+        if (s.from(h) < s.to(h)) lengths.push_back(s.length(h));
     std::nth_element(lengths.begin(), lengths.begin() + lengths.size() / 2, lengths.end());
     const double median = lengths[lengths.size() / 2];
+    double area = 0;
+    for (const Triangle& t : mesh.triangles)
+        area += areas.emplace_back(
+            0.5 * norm(cross(mesh.points[t[1]] - mesh.points[t[0]], mesh.points[t[2]] - mesh.points[t[0]])));
     const double length = std::max(4 * median, std::sqrt(area / quads) / 8);
+    std::vector<char> counted(areas.size(), 0);
     double long_area = 0;
-    for (size_t t = 0; t < areas.size(); ++t)
-        if (longest[t] > length) long_area += areas[t];
+    for (int h = 0; h < s.num_half_edges(); ++h)
+        if (!counted[h / 3] && s.length(h) > length && detail::flat_edge(s, h, kFlatEdgeCos))
+            counted[h / 3] = 1, long_area += areas[h / 3];
     if (!(long_area >= 0.1 * area)) return std::nullopt;
     return length;
 }
@@ -119,18 +125,19 @@ Cycles build_cycles(const Mesh& input, const QuadLayoutOptions& options) {
     const int genus = report.components[0].genus;
     Mesh mesh = input;
     bool refined = false;
+    // Whether to split long edges is decided on the input: the 1-to-4 splits below make flat edges
+    // of their own inside every triangle.
+    const int quads = genus == 0 ? 6 : genus == 1 ? 4 : 10 * genus - 10;
+    const std::optional<double> split_length =
+        options.split_long_edges ? long_edge_split_length(detail::Surface(input), quads) : std::nullopt;
     while (mesh.num_vertices() < 1000 + 200 * genus) mesh = subdivide_midpoint(mesh), refined = true;
-    if (options.split_long_edges) {
-        const int quads = genus == 0 ? 6 : genus == 1 ? 4 : 10 * genus - 10;
-        if (const std::optional<double> length = long_edge_split_length(mesh, quads)) {
-            detail::Surface s(std::move(mesh));
-            c.long_edge_splits = detail::split_long_edges(&s, *length);
-            mesh = std::move(s.mutable_mesh());
-            refined = true;
-            if (options.progress)
-                options.progress("long edges split: " + std::to_string(c.long_edge_splits) +
-                                 " vertices added");
-        }
+    if (split_length) {
+        detail::Surface s(std::move(mesh));
+        c.long_edge_splits = detail::split_long_edges(&s, *split_length);
+        mesh = std::move(s.mutable_mesh());
+        refined = true;
+        if (options.progress)
+            options.progress("long edges split: " + std::to_string(c.long_edge_splits) + " vertices added");
     }
     // Builds the cycles (none for a sphere); the input's report serves an unrefined mesh.
     c.system = refined ? build_orthogonal_system(mesh, c.options)

@@ -167,6 +167,15 @@ std::vector<int> Surface::split_edges(const std::vector<std::pair<int, int>>& ed
     return result;
 }
 
+bool flat_edge(const Surface& s, int h, double min_cos) {
+    auto normal = [&s](int t) {
+        const Triangle& f = s.mesh().triangles[t];
+        return cross(s.point(f[1]) - s.point(f[0]), s.point(f[2]) - s.point(f[0]));
+    };
+    const Vec3 a = normal(h / 3), b = normal(s.twin(h) / 3);
+    return dot(a, b) >= min_cos * norm(a) * norm(b);
+}
+
 int split_long_edges(Surface* s, double max_length) {
     const int before = s->num_vertices();
     for (;;) {

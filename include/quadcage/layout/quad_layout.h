@@ -41,9 +41,10 @@ struct QuadLayoutOptions {
     /// the median edge length and than an eighth of a cage quad's side (sqrt(area / quads)): a CAD
     /// tessellation's flat faces are fans of long, thin triangles that the layout curves, routed
     /// along mesh edges, would follow into stacks of thin patches (input_wheel's back face). Only
-    /// where the triangles with such an edge cover a tenth of the surface or more. The splits no
-    /// layout curve runs through are undone at the end, as the curves' own are; they do not count
-    /// against the constructions' vertex budgets, but do against vertices_added_bound() at the end.
+    /// where the input's triangles with such an edge between two triangles within 1 degree of one
+    /// plane cover a tenth of its surface or more (not a limb's stretched triangles). The splits no layout
+    /// curve runs through are undone at the end, as the curves' own are; they do not count against the
+    /// constructions' vertex budgets, but do against vertices_added_bound() at the end.
     bool split_long_edges = true;
     /// With s_cycles_from_handle_loops, where the handle loops gave the S-cycles: build the layout
     /// with Algorithm 1's S-cycles too (unless the first layout is past vertices_added_bound();

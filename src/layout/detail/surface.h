@@ -53,8 +53,14 @@ private:
     std::vector<int> out_;
 };
 
+/// Whether the two triangles of half-edge h are this close to one plane: the cosine of the angle
+/// between their normals is at least min_cos.
+bool flat_edge(const Surface& s, int h, double min_cos);
+
 /// Splits every edge longer than max_length at its midpoint, over passes until none is (input
-/// vertices stay, in order; new ones are appended). Returns the number of vertices added.
+/// vertices stay, in order; new ones are appended). Returns the number of vertices added. (Every
+/// long edge: sparing some, e.g. creases, would leave the triangles along them to be split towards
+/// them forever.)
 int split_long_edges(Surface* s, double max_length);
 
 /// Inserts into each curve the midpoints of its split edges. `split` lists (a, b, m): edge a-b was
