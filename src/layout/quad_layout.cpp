@@ -127,7 +127,7 @@ Cycles build_cycles(const Mesh& input, const QuadLayoutOptions& options) {
     bool refined = false;
     // Whether to split long edges is decided on the input: the 1-to-4 splits below make flat edges
     // of their own inside every triangle.
-    const int quads = genus == 0 ? 6 : genus == 1 ? 4 : 10 * genus - 10;
+    const int quads = minimal_quad_count(genus);
     const std::optional<double> split_length =
         options.split_long_edges ? long_edge_split_length(detail::Surface(input), quads) : std::nullopt;
     while (mesh.num_vertices() < 1000 + 200 * genus) mesh = subdivide_midpoint(mesh), refined = true;
