@@ -69,19 +69,14 @@ public:
         for (const auto& path : L.edge_paths)
             for (size_t i = 0; i + 1 < path.size(); ++i)
                 if (i > 0 && on_paths[path[i]] == 1) along_[path[i]] = {path[i - 1], path[i + 1]};
-        for (const auto& path : L.edge_paths)
-            for (int v : path) keep_[v] = 1;
-        for (const auto* cycles : {&L.orthogonal_system, &L.s_cycles})
-            for (const Cycle& c : *cycles)
-                for (int v : c) keep_[v] = 1, along_[v] = {-1, -1};
-        for (int v : L.corner_vertex) keep_[v] = 1, along_[v] = {-1, -1};
-        for (int v = 0; v < L.input_vertices; ++v) along_[v] = {-1, -1};
         curve_.assign(n, 0);
         for (const auto& path : L.edge_paths)
-            for (int v : path) curve_[v] = 1;
+            for (int v : path) keep_[v] = curve_[v] = 1;
         for (const auto* cycles : {&L.orthogonal_system, &L.s_cycles})
             for (const Cycle& c : *cycles)
-                for (int v : c) curve_[v] = 1;
+                for (int v : c) keep_[v] = curve_[v] = 1, along_[v] = {-1, -1};
+        for (int v : L.corner_vertex) keep_[v] = 1, along_[v] = {-1, -1};
+        for (int v = 0; v < L.input_vertices; ++v) along_[v] = {-1, -1};
     }
 
     // Collapses every vertex it may, later ones first, pass after pass; with `straighten`, takes
