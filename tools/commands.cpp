@@ -1,5 +1,6 @@
 #include "commands.h"
 
+#include <cctype>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -314,9 +315,19 @@ int run_version() {
     return kOk;
 }
 
+// The extension of a mesh file `generate` and `subdivide` write, lower case: ".ply" or ".obj". Any
+// other name is refused before any work (the file would otherwise be OBJ under another format's name).
+std::string mesh_output_extension(const std::string& out) {
+    std::string ext = std::filesystem::path(out).extension().string();
+    for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    if (ext != ".ply" && ext != ".obj")
+        throw InvalidInput(out + ": cannot write this format; name the output file .obj or .ply (-o)");
+    return ext;
+}
+
 // Writes .ply or .obj by the output's extension.
 void write_mesh_by_extension(const std::string& out, const Mesh& mesh) {
-    if (out.size() >= 4 && out.compare(out.size() - 4, 4, ".ply") == 0) write_ply(out, mesh);
+    if (mesh_output_extension(out) == ".ply") write_ply(out, mesh);
     else write_obj(out, mesh);
 }
 
@@ -328,6 +339,7 @@ void refuse_to_replace(const std::string& input, const std::string& output) {
 }
 
 int run_subdivide(const SubdivideOptions& o) {
+    mesh_output_extension(o.output);  // refuses other formats before any work
     refuse_to_replace(o.mesh, o.output);
     Mesh mesh = read_mesh(o.mesh);
     require_quaddable(mesh, o.mesh);
@@ -338,6 +350,7 @@ int run_subdivide(const SubdivideOptions& o) {
 }
 
 int run_generate(const GenerateOptions& o) {
+    mesh_output_extension(o.output);  // refuses other formats before any work
     Mesh mesh;
     if (o.shape == "sphere") mesh = shapes::icosphere(o.resolution);
     else if (o.shape == "torus") mesh = shapes::torus(8 * o.resolution, 4 * o.resolution);

@@ -215,6 +215,27 @@ TEST(CliInfo, GeneratedWheelsHaveTheirGenus) {
     EXPECT_FALSE(fs::exists(none));
 }
 
+// generate and subdivide write OBJ or PLY by the output's extension; any other name is refused
+// before any work, with exit code 3 and no file, instead of OBJ text under another format's name.
+TEST(CliGenerate, RefusesAnOutputNamedForAnotherFormat) {
+    const fs::path dir = scratch_dir();
+    for (const char* name : {"plate.off", "plate.stl", "plate"}) {
+        const fs::path file = dir / name;
+        const Outcome r = quadcage("generate plate -g 2 -o '" + file.string() + "'");
+        EXPECT_EQ(r.code, 3) << name;
+        EXPECT_NE(r.err.find(".obj or .ply"), std::string::npos) << r.err;
+        EXPECT_FALSE(fs::exists(file)) << name;
+    }
+    const fs::path upper = dir / "plate.PLY";
+    ASSERT_EQ(quadcage("generate plate -g 2 -o '" + upper.string() + "'").code, 0);
+    const Outcome info = quadcage("info --json '" + upper.string() + "'");
+    ASSERT_EQ(info.code, 0) << info.err;
+    EXPECT_EQ(nlohmann::json::parse(info.out)["format"].get<std::string>().rfind("ply", 0), 0u) << info.out;
+    const fs::path sub = dir / "sub.off";
+    EXPECT_EQ(quadcage("subdivide '" + upper.string() + "' -o '" + sub.string() + "'").code, 3);
+    EXPECT_FALSE(fs::exists(sub));
+}
+
 TEST(CliUsage, BadUsageExitsTwo) {
     EXPECT_EQ(quadcage("").code, 2);
     EXPECT_EQ(quadcage("frobnicate").code, 2);
