@@ -25,6 +25,8 @@ def main():
     ap.add_argument('output')
     ap.add_argument('--length', type=float, help='split edges longer than this (default: the median)')
     a = ap.parse_args()
+    if not a.output.lower().endswith('.off'):
+        sys.exit('split_long_edges.py: %s: the output is written as OFF; name it .off' % a.output)
     v, f, _ = read_mesh(a.input)
     t, _ = triangles(f)
     points = [tuple(p) for p in v]
