@@ -68,6 +68,7 @@ struct FitCommandOptions {
     std::string solver = "direct";  ///< --solver: direct or ceres (fit::FitSolver).
     int rounds = fit::FitOptions{}.outer_iterations;  ///< --rounds N: solve / correspondence rounds a level.
     double limit_max_error = 0;     ///< --limit-max-error R: limit.ply within R of the diagonal everywhere measured.
+    bool plane_feet_only = false;   ///< --plane-feet-only: fit::FitOptions::surface_feature_feet off.
     std::string step;         ///< --step FILE: also export the fitted surface as a STEP solid.
     std::string iges;         ///< --iges FILE: ... and/or as IGES.
     double cad_tolerance = 1e-5;  ///< --cad-tolerance T (relative to the diagonal).

@@ -195,6 +195,12 @@ int main(int argc, char** argv) {
                         "8 fit botijo's level 3 in 6.7 s instead of 11.7 s, to relative RMS / Hausdorff 4.5e-4 /\n"
                         "9.3e-3 instead of 3.2e-4 / 3.9e-3")
         ->check(CLI::Range(1, 1000));
+    fit_cmd->add_flag(
+        "--plane-feet-only", fitopt.plane_feet_only,
+        "Measure a limit-surface sample's distance to MESH in the fit always along the normal of\n"
+        "the closest triangle. By default, where the closest point lies on an edge or at a vertex\n"
+        "of MESH (a convex crease, the rim of a hole), along the offset from that point, the\n"
+        "direction the true distance grows in there: the surface cannot bulge past a crease unseen");
     fit_cmd->add_option("--limit-max-error", fitopt.limit_max_error,
                         "Tessellate limit.ply finely enough that its measured largest distance to the limit\n"
                         "surface is at most R of the bounding-box diagonal (default: only its RMS distance is\n"

@@ -687,10 +687,17 @@ LevelReport fit_level(const Context& ctx, const LevelTopology& topo, subdiv::Lim
             const double len = norm(n);
             if (!(len > 0)) return;  // no rows
             const int slot = direct ? surf_packed->slot_of[i] : i;
-            surf_rows[slot] =
-                scaled(detail::point_to_plane_rows(direct ? std::vector<double>{} : weights_of(surf_combo[i]),
-                                                   hits[i].point, n / len, 1.0),
-                       surf_pos[i], surf_weight[i]);
+            std::vector<double> wi = direct ? std::vector<double>{} : weights_of(surf_combo[i]);
+            // Where the foot lies on an edge or at a vertex of its triangle (a zero weight), the
+            // distance to the mesh grows along the offset from the foot, not along the triangle's
+            // normal: the plane across that offset.
+            const std::array<double, 3>& bary = hits[i].barycentric;
+            const Vec3 offset = surf_pos[i] - hits[i].point;
+            const double reach = norm(offset);
+            const bool on_feature = bary[0] == 0 || bary[1] == 0 || bary[2] == 0;
+            const Vec3 normal = o.surface_feature_feet && on_feature && reach > 0 ? offset / reach : n / len;
+            detail::StencilRows rows = detail::point_to_plane_rows(std::move(wi), hits[i].point, normal, 1.0);
+            surf_rows[slot] = scaled(std::move(rows), surf_pos[i], surf_weight[i]);
             surf_used[slot] = 1;
         });
         if (direct) {

@@ -66,6 +66,12 @@ struct FitOptions {
                                       ///< point-to-point first.
     double surface_to_input_weight = 1.0;  ///< Weight of the surface-to-input (point-to-plane) term
                                             ///< relative to the input-to-surface term, >= 0.
+    /// How a surface sample's distance to the input is linearised where its closest input point
+    /// lies on an edge or at a vertex of the input (a convex crease, a hole's rim, a thin part's
+    /// edge): true, along the offset from that point, the direction in which the distance to the
+    /// mesh grows there; false, along the normal of the triangle found, which lets the surface
+    /// bulge past a crease unseen.
+    bool surface_feature_feet = true;
     double huber_scale = 1e-1;   ///< Huber loss threshold (relative distance), > 0; residuals above it
                                  ///< count linearly: only gross outliers are down-weighted.
     int area_samples = 20000;    ///< Input points sampled uniformly by area for the data term (besides
