@@ -236,6 +236,21 @@ TEST(CliGenerate, RefusesAnOutputNamedForAnotherFormat) {
     EXPECT_FALSE(fs::exists(sub));
 }
 
+// render writes PNG: any other output name is refused (exit 3, no file) instead of PNG bytes under
+// a .jpg name.
+TEST(CliRender, RefusesAnOutputNotNamedPng) {
+    const fs::path dir = scratch_dir();
+    const fs::path mesh = dir / "plate.obj";
+    ASSERT_EQ(quadcage("generate plate -g 2 -o '" + mesh.string() + "'").code, 0);
+    const fs::path jpg = dir / "plate.jpg";
+    const Outcome r = quadcage("render '" + mesh.string() + "' -q -o '" + jpg.string() + "'");
+    EXPECT_EQ(r.code, 3);
+    EXPECT_NE(r.err.find(".png"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(jpg));
+    EXPECT_EQ(quadcage("render '" + mesh.string() + "' -q -o '" + (dir / "plate.PNG").string() + "'").code,
+              0);
+}
+
 TEST(CliUsage, BadUsageExitsTwo) {
     EXPECT_EQ(quadcage("").code, 2);
     EXPECT_EQ(quadcage("frobnicate").code, 2);
