@@ -328,7 +328,9 @@ std::string mesh_output_extension(const std::string& out) {
 
 // Writes .ply or .obj by the output's extension.
 void write_mesh_by_extension(const std::string& out, const Mesh& mesh) {
-    if (mesh_output_extension(out) == ".ply") write_ply(out, mesh);
+    const bool ply = mesh_output_extension(out) == ".ply";
+    if (ply)
+        write_ply(out, mesh);
     else write_obj(out, mesh);
 }
 
