@@ -11,18 +11,11 @@ INPUT both ways: check_fit.py's k-nearest-centroid search and an exact minimum o
 triangle (brute force: small inputs only). Relative to INPUT's bounding-box diagonal.
 """
 import argparse
-import importlib.util
-import os
 import sys
 
 import numpy as np
 
-tools = os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', '..', '..', 'shared', 'tools')
-sys.path.insert(0, tools)
-spec = importlib.util.spec_from_file_location('check_fit', os.path.join(tools, 'check_fit.py'))
-check_fit = importlib.util.module_from_spec(spec)
-spec.loader.exec_module(check_fit)
-from meshio import read_mesh, triangles  # noqa: E402
+from shared_checkers import check_fit, read_mesh, triangles
 
 
 def main():

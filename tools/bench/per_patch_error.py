@@ -13,19 +13,11 @@ DIR/level3/meshes/NAME/level3/, the peer's surface in DIR/level3/meshes/NAME/pee
 The layout must keep the input's vertices first, as `quadcage` writes it.
 """
 import argparse
-import importlib.util
-import os
 import sys
 
 import numpy as np
 
-tools = os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', '..', '..', 'shared', 'tools')
-sys.path.insert(0, tools)
-from meshio import read_mesh, triangles  # noqa: E402
-
-spec = importlib.util.spec_from_file_location('check_fit', os.path.join(tools, 'check_fit.py'))
-check_fit = importlib.util.module_from_spec(spec)
-spec.loader.exec_module(check_fit)
+from shared_checkers import check_fit, read_mesh, triangles
 
 
 def main():
