@@ -1,5 +1,6 @@
 #include "commands.h"
 
+#include <algorithm>
 #include <cctype>
 #include <chrono>
 #include <cstdio>
@@ -316,14 +317,18 @@ int run_version() {
     return kOk;
 }
 
-// The extension of a mesh file `generate` and `subdivide` write, lower case: ".ply" or ".obj". Any
-// other name is refused before any work (the file would otherwise be OBJ under another format's name).
-std::string mesh_output_extension(const std::string& out) {
-    std::string ext = std::filesystem::path(out).extension().string();
+std::string output_extension(const std::string& path, const std::vector<std::string>& allowed) {
+    std::string ext = std::filesystem::path(path).extension().string();
     for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
-    if (ext != ".ply" && ext != ".obj")
-        throw InvalidInput(out + ": cannot write this format; name the output file .obj or .ply (-o)");
-    return ext;
+    if (std::find(allowed.begin(), allowed.end(), ext) != allowed.end()) return ext;
+    std::string names;
+    for (const std::string& a : allowed) names += (names.empty() ? "" : " or ") + a;
+    throw InvalidInput(path + ": cannot write this format here; name the output file " + names + " (-o)");
+}
+
+// The mesh file `generate` and `subdivide` write: PLY or OBJ by its name.
+std::string mesh_output_extension(const std::string& out) {
+    return output_extension(out, {".obj", ".ply"});
 }
 
 // Writes .ply or .obj by the output's extension.

@@ -137,4 +137,9 @@ struct BenchCommandOptions {
 };
 int run_bench(const BenchCommandOptions& options);
 
+/// A single output file's extension in lower case (".ply"); InvalidInput naming the file unless it
+/// is one of `allowed`, before any work: a command writes one format by name and must not put it
+/// under another's.
+std::string output_extension(const std::string& path, const std::vector<std::string>& allowed);
+
 }  // namespace quadcage::cli

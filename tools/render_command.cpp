@@ -1,6 +1,5 @@
 // `quadcage render`: pictures of a layout, a deviation map or a plain mesh.
 
-#include <cctype>
 #include <cstdio>
 #include <filesystem>
 
@@ -47,9 +46,7 @@ int run_render(const RenderCommandOptions& o) {
     if (fs::exists(o.output, ec) && fs::equivalent(mesh_path, o.output, ec))
         throw OutputConflict(o.output + ": this output would replace the input " + mesh_path +
                              "; choose another output file (-o)");
-    std::string ext = fs::path(o.output).extension().string();
-    for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
-    if (ext != ".png") throw InvalidInput(o.output + ": render writes PNG; name the output file .png (-o)");
+    output_extension(o.output, {".png"});  // render writes PNG
 
     render::FigureOptions fig;
     parse_size(o.size, fig.width, fig.height);
