@@ -435,10 +435,6 @@ TEST(FitOutputs, QuadObjAndReportWithoutTessellation) {
     EXPECT_THROW(write_fit_outputs((dir / "x").string(), layout.mesh, FitResult{}, o), InvalidInput);
 }
 
-// The rounds a level takes by default (FitOptions::outer_iterations) bring the fit of a real
-// layout, whose patch maps are far from isometric, close to where more rounds end. Measured on
-// fertility at level 3, relative RMS: 8 rounds 2.38e-4, 16 1.91e-4, 32 1.77e-4 (botijo: 4.72e-4,
-// 3.19e-4, 2.87e-4). At the old default of 8, twice the rounds took a fifth off the RMS.
 // A plate with square holes has sharp convex edges all round. The closest input points of the
 // surface samples near them lie on those edges: measured along the normal of the triangle found,
 // the surface could bulge past an edge unseen. Measured along the offset from the edge, it fits the
@@ -458,6 +454,10 @@ TEST(FitSurface, OffsetsAtEdgesKeepTheSurfaceFromBulgingPastCreases) {
     EXPECT_LT(edges.relative.rms, 1.02 * planes.relative.rms);
 }
 
+// The rounds a level takes by default (FitOptions::outer_iterations) bring the fit of a real
+// layout, whose patch maps are far from isometric, close to where more rounds end. Measured on
+// fertility at level 3, relative RMS: 8 rounds 2.38e-4, 16 1.91e-4, 32 1.77e-4 (botijo: 4.72e-4,
+// 3.19e-4, 2.87e-4). At the old default of 8, twice the rounds took a fifth off the RMS.
 TEST(FitSurface, TwiceTheDefaultRoundsGainLittleOnARealLayout) {
     if (!test::have_shared_meshes()) GTEST_SKIP() << "shared meshes not found";
     const layout::QuadLayout layout = layout::build_quad_layout(test::load_shared("fertility.off"));

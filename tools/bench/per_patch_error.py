@@ -27,8 +27,7 @@ def main():
     ap.add_argument('--surface', required=True, help='limit.ply of the fit on that layout')
     ap.add_argument('--other', required=True, help='limit.ply of the fit compared with')
     a = ap.parse_args()
-    vi, fi, _ = read_mesh(a.input)
-    ti, _ = triangles(fi)
+    vi, _, _ = read_mesh(a.input)
     lv, lf, props = read_mesh(a.layout)
     if 'patch' not in props:
         sys.exit('per_patch_error.py: %s has no face property patch' % a.layout)
