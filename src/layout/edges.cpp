@@ -16,12 +16,14 @@
 
 namespace quadcage::layout::detail {
 
-void place_layout_edges(QuadLayout* layout, const QuadLayoutOptions& options, long long bound,
-                        const std::function<void(const std::string&)>& say) {
+void place_layout_edges(const Mesh& input, QuadLayout* layout, const QuadLayoutOptions& options,
+                        long long bound, const std::function<void(const std::string&)>& say) {
     auto since = [](std::chrono::steady_clock::time_point t) {
         return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
     };
     QuadLayout& out = *layout;
+    // Traced again on the input's triangles over the bound, unless the edges are to stay as routed.
+    const Mesh* retrace = options.smooth_edges ? &input : nullptr;
     bool embedded = false;
     const bool embed = options.smooth_edges && options.edge_embedding_iterations > 0;
     if (embed && out.mesh.num_vertices() > options.edge_embedding_max_vertices) {
@@ -59,7 +61,7 @@ void place_layout_edges(QuadLayout* layout, const QuadLayoutOptions& options, lo
             measure_quality(&e);
             e.seconds = out.seconds;
             e.edges_smoothed = true;
-            undo_unused_refinement(&e, say, bound);
+            undo_unused_refinement(&e, say, bound, retrace);
             const long long added = e.mesh.num_vertices() - e.input_vertices;
             const double before = out.quality.patch_area_max_over_min,
                          after = e.quality.patch_area_max_over_min;
@@ -115,7 +117,7 @@ void place_layout_edges(QuadLayout* layout, const QuadLayoutOptions& options, lo
         }
         out.seconds.curves += since(start);
     }
-    undo_unused_refinement(&out, say, bound);
+    undo_unused_refinement(&out, say, bound, retrace);
     if (staircase && out.mesh.num_vertices() - out.input_vertices > bound) {
         // Each crossing of a mesh edge is a vertex: a plate's coarse, regular mesh (genus 11: 20330
         // added, bound 16137, against 9473 along mesh edges) can take the smoothed edges past the
@@ -125,7 +127,7 @@ void place_layout_edges(QuadLayout* layout, const QuadLayoutOptions& options, lo
             std::to_string(bound) + ")");
         staircase->seconds = out.seconds;
         out = std::move(*staircase);
-        undo_unused_refinement(&out, say, bound);
+        undo_unused_refinement(&out, say, bound, retrace);
     }
 }
 

@@ -484,7 +484,7 @@ QuadLayout build_quad_layout(const Mesh& input, const QuadLayoutOptions& options
     QuadLayout out = layout_of_better_s_cycles(input, cycles, options, say);
     // The embedding: the layout edges along one map of the surface, else smoothed (edges.cpp).
     const long long bound = vertices_added_bound(out.input_vertices, out.cage.num_corners());
-    detail::place_layout_edges(&out, options, bound, say);
+    detail::place_layout_edges(input, &out, options, bound, say);
     // The experimental embedding stage, which can move the corners (embedding.cpp; off by default).
     if (options.embedding_iterations > 0) {
         const auto start = std::chrono::steady_clock::now();

@@ -10,6 +10,7 @@
 
 #include "detail/curves.h"
 #include "detail/patches.h"
+#include "detail/retrace.h"
 #include "quadcage/core/errors.h"
 
 namespace quadcage::layout::detail {
@@ -326,7 +327,7 @@ int remove_unused_refinement(const QuadLayout& L, QuadLayout* out, std::vector<c
 }
 
 void undo_unused_refinement(QuadLayout* L, const std::function<void(const std::string&)>& say,
-                            long long bound) {
+                            long long bound, const Mesh* input) {
     const auto start = std::chrono::steady_clock::now();
     for (const bool straighten : {false, true}) {
         if (straighten && !(bound >= 0 && L->mesh.num_vertices() - L->input_vertices > bound)) break;
@@ -345,6 +346,19 @@ void undo_unused_refinement(QuadLayout* L, const std::function<void(const std::s
             } else {
                 say("refinement: keeping the " + what + " (without them: " + problem + ")");
             }
+        }
+    }
+    if (input && bound >= 0 && L->mesh.num_vertices() - L->input_vertices > bound) {
+        QuadLayout traced;
+        if (const std::string problem = retrace_on_input(*input, *L, &traced); !problem.empty()) {
+            say("refinement: the curves not traced again on the input's triangles (" + problem + ")");
+        } else if (traced.mesh.num_vertices() < L->mesh.num_vertices()) {
+            measure_quality(&traced);
+            say("refinement: the curves traced again on the input's triangles: " +
+                std::to_string(traced.mesh.num_vertices() - traced.input_vertices) +
+                " vertices added (were " + std::to_string(L->mesh.num_vertices() - L->input_vertices) + ")");
+            traced.seconds = L->seconds;
+            *L = std::move(traced);
         }
     }
     L->seconds.parameterization +=

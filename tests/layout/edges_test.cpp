@@ -20,11 +20,16 @@ namespace {
 
 // A verified layout of a genus-2 plate with its edges along mesh edges, as the relaxation leaves
 // them (place_layout_edges()'s input in build_quad_layout()).
+const Mesh& plate() {
+    static const Mesh m = shapes::plate_with_holes(2);
+    return m;
+}
+
 const QuadLayout& staircase() {
     static const QuadLayout L = [] {
         QuadLayoutOptions o;
         o.smooth_edges = false;
-        return build_quad_layout(shapes::plate_with_holes(2), o);
+        return build_quad_layout(plate(), o);
     }();
     return L;
 }
@@ -46,7 +51,8 @@ struct Placed {
 
 Placed place(const QuadLayoutOptions& options, long long bound) {
     Placed p{staircase(), {}};
-    place_layout_edges(&p.layout, options, bound, [&](const std::string& m) { p.said.push_back(m); });
+    place_layout_edges(plate(), &p.layout, options, bound,
+                       [&](const std::string& m) { p.said.push_back(m); });
     return p;
 }
 
@@ -93,14 +99,16 @@ TEST(LayoutPlaceEdges, EdgesThatWouldPassTheBoundStayAlongMeshEdges) {
     const Placed p = place(QuadLayoutOptions{}, 0);
     EXPECT_TRUE(said(p.said, "edge embedding: not kept (they add "));
     EXPECT_TRUE(said(p.said, "smoothing: keeping the edges along mesh edges (smoothed, they add "));
-    EXPECT_FALSE(p.layout.edges_smoothed);
     EXPECT_EQ(verify_quad_layout(p.layout), "");
     // The staircase as it came (its unused refinement was undone already), but over the bound, so
-    // with the vertices of its straight stretches on flat ground taken out (the same corners).
+    // with the vertices of its straight stretches on flat ground taken out (the same corners), and
+    // then, still over it, traced again on the input's triangles: its edges now cross them.
     EXPECT_TRUE(std::any_of(p.said.begin(), p.said.end(), [](const std::string& m) {
         return m.find(" vertices taken out of straight stretches of the layout edges removed") !=
                std::string::npos;
     }));
+    EXPECT_TRUE(said(p.said, "refinement: the curves traced again on the input's triangles: "));
+    EXPECT_TRUE(p.layout.edges_smoothed);
     EXPECT_LT(p.layout.mesh.num_vertices(), staircase().mesh.num_vertices());
     EXPECT_EQ(p.layout.corner_vertex.size(), staircase().corner_vertex.size());
     for (size_t c = 0; c < p.layout.corner_vertex.size(); ++c)
@@ -127,13 +135,14 @@ TEST(LayoutPlaceEdges, WithoutSmoothingTheEdgesStayAlongMeshEdges) {
 TEST(LayoutPlaceEdges, ConeChartsSpreadTheEdgesEvenlyRoundTheCorners) {
     QuadLayoutOptions built;
     built.smooth_edges = false;
-    const QuadLayout start = build_quad_layout(shapes::body_with_handles(), built);
+    const Mesh body = shapes::body_with_handles();
+    const QuadLayout start = build_quad_layout(body, built);
     const long long bound = bound_of(start);
     auto placed = [&](double charts) {
         QuadLayoutOptions o;
         o.edge_embedding_cone_charts = charts;
         Placed p{start, {}};
-        place_layout_edges(&p.layout, o, bound, [&](const std::string& m) { p.said.push_back(m); });
+        place_layout_edges(body, &p.layout, o, bound, [&](const std::string& m) { p.said.push_back(m); });
         return p;
     };
     const Placed held = placed(0), pulled = placed(1000);

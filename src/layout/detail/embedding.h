@@ -214,10 +214,11 @@ std::string embed_layout_edges(const QuadLayout& layout, int iterations, QuadLay
 /// max/min and, once the refinement no curve runs through is undone (undo_unused_refinement()),
 /// adds at most `bound` vertices; else the smoothing (smooth_layout_edges()), kept unless it takes
 /// the mesh past the bound; else the edges along mesh edges. Progress lines say which, and why.
-/// With `options.smooth_edges` off, only the unused refinement is undone.
-/// \pre *layout is verified, its quality measured.
-void place_layout_edges(QuadLayout* layout, const QuadLayoutOptions& options, long long bound,
-                        const std::function<void(const std::string&)>& say);
+/// With `options.smooth_edges` off, only the unused refinement is undone. Otherwise every undoing
+/// is given `input`, so a layout still over the bound is traced again on the input's triangles.
+/// \pre *layout is a verified layout of `input`, its quality measured.
+void place_layout_edges(const Mesh& input, QuadLayout* layout, const QuadLayoutOptions& options,
+                        long long bound, const std::function<void(const std::string&)>& say);
 
 /// The embedding stage of build_quad_layout(): optimize_embedding(), relocate_cones() for
 /// `cone_sweeps` passes (0: none), then measure_area_potential(); one progress line with the

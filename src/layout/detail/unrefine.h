@@ -39,10 +39,11 @@ int remove_unused_refinement(const QuadLayout& layout, QuadLayout* out, std::vec
 
 /// remove_unused_refinement() on *L, the changed patches mapped again, kept if the result verifies
 /// (its quality then measured again); one progress line says which. Then, if bound >= 0 and the
-/// layout still adds more vertices than that, the same with `straighten`. Its time is added to
-/// L->seconds.parameterization.
-/// \pre *L is a verified layout.
+/// layout still adds more vertices than that, the same with `straighten`; and if it still does and
+/// `input` is given, the layout traced again on the input's triangles (retrace_on_input()), kept if
+/// it verifies and adds fewer vertices. Its time is added to L->seconds.parameterization.
+/// \pre *L is a verified layout (of *input, if given).
 void undo_unused_refinement(QuadLayout* L, const std::function<void(const std::string&)>& say,
-                            long long bound = -1);
+                            long long bound = -1, const Mesh* input = nullptr);
 
 }  // namespace quadcage::layout::detail
