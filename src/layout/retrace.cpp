@@ -26,12 +26,6 @@ Key edge_key(int a, int b) {
 // on input edges up to rounding.
 constexpr double kOnEdge = 1e-9;
 
-// Where a layout vertex lies on the input: the input triangles it is in (one inside a triangle, two
-// on an edge, all round an input vertex).
-struct Place {
-    std::vector<int> faces;
-};
-
 // A uniform grid of the input triangles' bounding boxes, to find the triangle a point lies in.
 class TriangleGrid {
 public:
@@ -204,7 +198,8 @@ bool clip_ears(const std::vector<P2>& pts, std::vector<int> poly, double eps2,
     return true;
 }
 
-std::vector<int> common_faces(const std::vector<int>& a, const std::vector<int>& b) {
+// The values in both lists.
+std::vector<int> shared(const std::vector<int>& a, const std::vector<int>& b) {
     std::vector<int> r;
     for (int f : a)
         if (std::find(b.begin(), b.end(), f) != b.end()) r.push_back(f);
@@ -233,11 +228,13 @@ std::string retrace_on_input(const Mesh& input, const QuadLayout& L, QuadLayout*
         }
     const TriangleGrid grid(input);
     const double tolerance = 1e-8 * grid.diag();
-    std::vector<Place> place(n);
+    // Where each layout vertex lies on the input: the input triangles it is in (one inside a
+    // triangle, two on an edge, all round an input vertex).
+    std::vector<std::vector<int>> place(n);
     std::vector<Vec3> points = L.mesh.points;
     for (int v = 0; v < n; ++v) {
         if (v < nin) {
-            place[v].faces = vertex_faces[v];
+            place[v] = vertex_faces[v];
             continue;
         }
         std::array<double, 3> w{};
@@ -250,14 +247,21 @@ std::string retrace_on_input(const Mesh& input, const QuadLayout& L, QuadLayout*
         if (zeros >= 2) return "layout vertex " + std::to_string(v) + " lies on an input vertex";
         if (zeros == 1) {
             const int a = t[(zero + 1) % 3], b = t[(zero + 2) % 3];
-            place[v].faces = edge_faces[edge_key(a, b)];
+            place[v] = edge_faces[edge_key(a, b)];
             // Exactly on the edge, as the split that made it meant.
             const double s = w[(zero + 2) % 3] / (w[(zero + 1) % 3] + w[(zero + 2) % 3]);
             points[v] = input.points[a] + (input.points[b] - input.points[a]) * s;
         } else {
-            place[v].faces = {f};
+            place[v] = {f};
         }
     }
+
+    std::vector<Frame> frames(nf);  // made as needed
+    std::vector<char> framed(nf, 0);
+    auto frame = [&](int f) -> const Frame& {
+        if (!framed[f]) frames[f] = frame_of(input, f), framed[f] = 1;
+        return frames[f];
+    };
 
     // The curves. Where the refinement was undone inside a plane, a mesh edge can cross input
     // edges between coplanar triangles: the points where it does are added to the curves through it.
@@ -278,8 +282,8 @@ std::string retrace_on_input(const Mesh& input, const QuadLayout& L, QuadLayout*
         // The triangle of lo's that the edge leaves it into.
         int f = -1;
         double best = -std::numeric_limits<double>::infinity();
-        for (int g : place[lo].faces) {
-            const Frame& fr = frame_of(input, g);
+        for (int g : place[lo]) {
+            const Frame& fr = frame(g);
             const Triangle& t = input.triangles[g];
             const P2 x = fr.at(p + (q - p) * 1e-6);
             const double in = std::min({orient(fr.at(input.points[t[0]]), fr.at(input.points[t[1]]), x),
@@ -289,9 +293,8 @@ std::string retrace_on_input(const Mesh& input, const QuadLayout& L, QuadLayout*
         }
         double at = 0;
         for (int step = 0; f >= 0 && step < 10000; ++step) {
-            if (std::find(place[hi].faces.begin(), place[hi].faces.end(), f) != place[hi].faces.end())
-                return made;
-            const Frame& fr = frame_of(input, f);
+            if (std::find(place[hi].begin(), place[hi].end(), f) != place[hi].end()) return made;
+            const Frame& fr = frame(f);
             const Triangle& t = input.triangles[f];
             const P2 P = fr.at(p), Q = fr.at(q);
             double first = std::numeric_limits<double>::infinity(), u_first = 0;
@@ -312,7 +315,7 @@ std::string retrace_on_input(const Mesh& input, const QuadLayout& L, QuadLayout*
             const int ea = t[k_first], eb = t[(k_first + 1) % 3];
             const int v = static_cast<int>(points.size());
             points.push_back(input.points[ea] + (input.points[eb] - input.points[ea]) * u_first);
-            place.push_back({edge_faces[edge_key(ea, eb)]});
+            place.push_back(edge_faces[edge_key(ea, eb)]);
             made.push_back(v);
             at = first;
             f = neighbour(f, ea, eb);
@@ -327,7 +330,7 @@ std::string retrace_on_input(const Mesh& input, const QuadLayout& L, QuadLayout*
             out.push_back(curve[i]);
             if (i + 1 == m && !closed) break;
             const int a = curve[i], b = curve[(i + 1) % m];
-            if (!common_faces(place[a].faces, place[b].faces).empty()) continue;
+            if (!shared(place[a], place[b]).empty()) continue;
             const std::vector<int> between = cross_between(a, b);
             if (a < b)
                 out.insert(out.end(), between.begin(), between.end());
@@ -408,21 +411,21 @@ std::string retrace_on_input(const Mesh& input, const QuadLayout& L, QuadLayout*
         k.assign(ch.size(), 0);
         k[0] = 1;
         size_t start = 0;
-        std::vector<int> common = place[ch[0]].faces;
+        std::vector<int> common = place[ch[0]];
         for (size_t i = 1; i < ch.size(); ++i) {
-            std::vector<int> with = common_faces(common, place[ch[i]].faces);
+            std::vector<int> with = shared(common, place[ch[i]]);
             if (with.empty()) {
                 if (i - 1 == start) return false;  // two neighbours in no common triangle
                 k[i - 1] = 1;
                 start = i - 1;
-                with = common_faces(place[ch[i - 1]].faces, place[ch[i]].faces);
+                with = shared(place[ch[i - 1]], place[ch[i]]);
                 if (with.empty()) return false;
             }
             common = std::move(with);
             if (fixed[c][i]) {
                 k[i] = 1;
                 start = i;
-                common = place[ch[i]].faces;
+                common = place[ch[i]];
             }
         }
         return true;
@@ -432,12 +435,6 @@ std::string retrace_on_input(const Mesh& input, const QuadLayout& L, QuadLayout*
 
     // Until the pieces in every input triangle are apart: a piece that crosses or touches another,
     // or runs through a kept point, keeps the points it skipped.
-    std::vector<Frame> frames(nf);
-    std::vector<char> framed(nf, 0);
-    auto frame = [&](int f) -> const Frame& {
-        if (!framed[f]) frames[f] = frame_of(input, f), framed[f] = 1;
-        return frames[f];
-    };
     struct Piece {
         int chain, from, to;  // chain positions
     };
@@ -452,14 +449,14 @@ std::string retrace_on_input(const Mesh& input, const QuadLayout& L, QuadLayout*
             for (int i = 1; i < static_cast<int>(chains[c].size()); ++i)
                 if (kept[c][i]) {
                     const int a = chains[c][last], b = chains[c][i];
-                    const std::vector<int> faces = common_faces(place[a].faces, place[b].faces);
+                    const std::vector<int> faces = shared(place[a], place[b]);
                     if (faces.empty()) return "a curve piece lies in no input triangle";
                     for (int f : faces) in_face[f].push_back(static_cast<int>(pieces.size()));
                     pieces.push_back({static_cast<int>(c), last, i});
                     for (int v : {a, b})
                         if (!point_listed[v]) {
                             point_listed[v] = 1;
-                            for (int f : place[v].faces) points_in_face[f].push_back(v);
+                            for (int f : place[v]) points_in_face[f].push_back(v);
                         }
                     last = i;
                 }
@@ -541,11 +538,11 @@ std::string retrace_on_input(const Mesh& input, const QuadLayout& L, QuadLayout*
     std::vector<std::vector<int>> points_of(nf);
     for (int v = nin; v < n; ++v)
         if (keep[v])
-            for (int f : place[v].faces) points_of[f].push_back(v);
+            for (int f : place[v]) points_of[f].push_back(v);
     std::vector<std::vector<std::array<int, 2>>> cuts(nf);  // pieces inside one triangle
     for (const Piece& q : pieces) {
         const int a = chains[q.chain][q.from], b = chains[q.chain][q.to];
-        const std::vector<int> faces = common_faces(place[a].faces, place[b].faces);
+        const std::vector<int> faces = shared(place[a], place[b]);
         if (faces.size() == 1) cuts[faces[0]].push_back({a, b});
     }
     std::vector<int> face_of;
@@ -570,7 +567,7 @@ std::string retrace_on_input(const Mesh& input, const QuadLayout& L, QuadLayout*
             std::vector<std::pair<double, int>> along;
             const Vec3 d = input.points[b] - input.points[a];
             for (int v : points_of[f]) {
-                const auto& fs = place[v].faces;
+                const auto& fs = place[v];
                 if (v < nin || fs.size() != 2) continue;
                 const auto& e = edge_faces[edge_key(a, b)];
                 if (!(std::find(e.begin(), e.end(), fs[0]) != e.end() &&
@@ -674,7 +671,7 @@ std::string retrace_on_input(const Mesh& input, const QuadLayout& L, QuadLayout*
         normal = normal * (1 / length);
         std::vector<int> faces;
         for (int v : tr)
-            for (int f : place[v].faces)
+            for (int f : place[v])
                 if (std::find(faces.begin(), faces.end(), f) == faces.end()) faces.push_back(f);
         for (int f : faces) {
             const Frame& fr = frame(f);
@@ -756,8 +753,7 @@ std::string retrace_on_input(const Mesh& input, const QuadLayout& L, QuadLayout*
         for (int k = 0; k < 3; ++k) {
             const int a = mesh.triangles[t][k], b = mesh.triangles[t][(k + 1) % 3];
             if (a >= boundary_known || b >= boundary_known) continue;
-            if (on_edge_path.count(edge_key(a, b)) || common_faces(sides_of[a], sides_of[b]).empty())
-                continue;
+            if (on_edge_path.count(edge_key(a, b)) || shared(sides_of[a], sides_of[b]).empty()) continue;
             const auto across = triangle_of.find(directed(b, a));
             if (across == triangle_of.end()) return "an edge with one triangle";
             const int u = across->second;
