@@ -160,10 +160,23 @@ bool segments_conflict(P2 a, P2 b, P2 c, P2 d, bool share_a_c, bool share_a_d, b
     return on(c, a, b, o1) || on(d, a, b, o2) || on(a, c, d, o3) || on(b, c, d, o4);
 }
 
+// Turns and containment are judged by the sine of the angle, not the area, so that regions far
+// smaller than their input triangle (curves passing 1e-7 apart) are judged as well as large ones;
+// below this sine, three points count as collinear (rounding leaves about 1e-14 on an input edge).
+constexpr double kSine = 1e-10;
+
+double length(P2 a) {
+    return std::hypot(a.x, a.y);
+}
+
+// Whether c lies strictly to the left of a->b, by more than rounding.
+bool left_of(P2 a, P2 b, P2 c) {
+    return orient(a, b, c) > kSine * length(b - a) * length(c - a);
+}
+
 // Triangulates the simple counter-clockwise polygon `poly` (indices into pts) by clipping the ear
 // with the largest smallest angle each time. False if it finds no ear (a degenerate polygon).
-bool clip_ears(const std::vector<P2>& pts, std::vector<int> poly, double eps2,
-               std::vector<std::array<int, 3>>* out) {
+bool clip_ears(const std::vector<P2>& pts, std::vector<int> poly, std::vector<std::array<int, 3>>* out) {
     auto angle_at = [&](int a, int b, int c) {
         const P2 u = pts[a] - pts[b], v = pts[c] - pts[b];
         return std::atan2(std::abs(cross2(u, v)), u.x * v.x + u.y * v.y);
@@ -174,13 +187,13 @@ bool clip_ears(const std::vector<P2>& pts, std::vector<int> poly, double eps2,
         double best_quality = -1;
         for (int i = 0; i < n; ++i) {
             const int a = poly[(i + n - 1) % n], b = poly[i], c = poly[(i + 1) % n];
-            if (!(orient(pts[a], pts[b], pts[c]) > eps2)) continue;
+            if (!left_of(pts[a], pts[b], pts[c])) continue;
             bool empty = true;
             for (int k : poly) {
                 if (k == a || k == b || k == c) continue;
                 const P2 p = pts[k];
-                if (orient(pts[a], pts[b], p) >= -eps2 && orient(pts[b], pts[c], p) >= -eps2 &&
-                    orient(pts[c], pts[a], p) >= -eps2) {
+                if (!left_of(pts[b], pts[a], p) && !left_of(pts[c], pts[b], p) &&
+                    !left_of(pts[a], pts[c], p)) {
                     empty = false;
                     break;
                 }
@@ -193,7 +206,7 @@ bool clip_ears(const std::vector<P2>& pts, std::vector<int> poly, double eps2,
         out->push_back({poly[(best + n - 1) % n], poly[best], poly[(best + 1) % n]});
         poly.erase(poly.begin() + best);
     }
-    if (!(orient(pts[poly[0]], pts[poly[1]], pts[poly[2]]) > eps2)) return false;
+    if (!left_of(pts[poly[0]], pts[poly[1]], pts[poly[2]])) return false;
     out->push_back({poly[0], poly[1], poly[2]});
     return true;
 }
@@ -598,10 +611,6 @@ std::string retrace_on_input(const Mesh& input, const QuadLayout& L, QuadLayout*
             });
         }
         std::map<std::pair<int, int>, char> traced;
-        double scale = 0;
-        for (int k = 0; k < 3; ++k)
-            scale = std::max(scale, std::hypot(pts[k].x - pts[(k + 1) % 3].x, pts[k].y - pts[(k + 1) % 3].y));
-        const double eps2 = 1e-14 * scale * scale;
         for (int i = 0; i < m; ++i)
             for (int j : out_of[i]) {
                 if (traced.count({i, j})) continue;
@@ -626,7 +635,7 @@ std::string retrace_on_input(const Mesh& input, const QuadLayout& L, QuadLayout*
                 if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end())
                     return "a curve ends inside an input triangle";
                 std::vector<std::array<int, 3>> tris;
-                if (!clip_ears(pts, poly, eps2, &tris))
+                if (!clip_ears(pts, poly, &tris))
                     return "a region of an input triangle could not be triangulated";
                 for (const auto& tr : tris) {
                     mesh.triangles.push_back({id[local[tr[0]]], id[local[tr[1]]], id[local[tr[2]]]});
