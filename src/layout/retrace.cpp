@@ -9,6 +9,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "detail/curves.h"
 #include "detail/patches.h"
 #include "quadcage/core/errors.h"
 
@@ -17,10 +18,6 @@ namespace quadcage::layout::detail {
 namespace {
 
 using Key = std::uint64_t;
-Key edge_key(int a, int b) {
-    if (a > b) std::swap(a, b);
-    return (static_cast<Key>(a) << 32) | static_cast<Key>(static_cast<std::uint32_t>(b));
-}
 
 // Barycentric weights this small put a layout vertex on an input edge: the splits put their points
 // on input edges up to rounding.
@@ -287,7 +284,7 @@ std::string retrace_on_input(const Mesh& input, const QuadLayout& L, QuadLayout*
     };
     std::string crossing_problem;
     auto cross_between = [&](int a, int b) -> const std::vector<int>& {
-        const Key key = edge_key(std::min(a, b), std::max(a, b));
+        const Key key = edge_key(a, b);
         if (auto it = crossings.find(key); it != crossings.end()) return it->second;
         std::vector<int>& made = crossings[key];
         const int lo = std::min(a, b), hi = std::max(a, b);
@@ -646,7 +643,6 @@ std::string retrace_on_input(const Mesh& input, const QuadLayout& L, QuadLayout*
 
     // The layout edges' pieces, in the new numbering.
     std::unordered_map<Key, char> on_edge_path;
-    std::vector<std::vector<int>> sides_of(mesh.num_vertices());  // the layout edges through a vertex
     QuadLayout r = L;
     r.edge_paths = std::move(paths);
     r.orthogonal_system = std::move(system);
@@ -657,12 +653,11 @@ std::string retrace_on_input(const Mesh& input, const QuadLayout& L, QuadLayout*
             if (keep[v]) kept_path.push_back(id[v]);
         path = std::move(kept_path);
     };
-    for (size_t e = 0; e < r.edge_paths.size(); ++e) {
-        auto& p = r.edge_paths[e];
+    for (auto& p : r.edge_paths) {
         renumber(p);
         for (size_t i = 0; i + 1 < p.size(); ++i) on_edge_path[edge_key(p[i], p[i + 1])] = 1;
-        for (int v : p) sides_of[v].push_back(static_cast<int>(e));
     }
+    const PathsThrough sides(mesh.num_vertices(), r.edge_paths);
     for (auto& c : r.orthogonal_system) renumber(c);
     for (auto& c : r.s_cycles) renumber(c);
     for (int& v : r.corner_vertex) v = id[v];
@@ -756,13 +751,13 @@ std::string retrace_on_input(const Mesh& input, const QuadLayout& L, QuadLayout*
     for (int t = 0; t < static_cast<int>(mesh.triangles.size()); ++t)
         for (int k = 0; k < 3; ++k)
             triangle_of[directed(mesh.triangles[t][k], mesh.triangles[t][(k + 1) % 3])] = t;
-    const int boundary_known = static_cast<int>(sides_of.size());
+    const int boundary_known = mesh.num_vertices();  // the midpoints below are on no layout edge
     std::unordered_map<Key, int> midpoint;
     for (int t = 0; t < static_cast<int>(mesh.triangles.size()); ++t)
         for (int k = 0; k < 3; ++k) {
             const int a = mesh.triangles[t][k], b = mesh.triangles[t][(k + 1) % 3];
             if (a >= boundary_known || b >= boundary_known) continue;
-            if (on_edge_path.count(edge_key(a, b)) || shared(sides_of[a], sides_of[b]).empty()) continue;
+            if (on_edge_path.count(edge_key(a, b)) || !sides.share_a_path(a, b)) continue;
             const auto across = triangle_of.find(directed(b, a));
             if (across == triangle_of.end()) return "an edge with one triangle";
             const int u = across->second;
