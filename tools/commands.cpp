@@ -178,6 +178,7 @@ void apply(const EmbeddingFlags& flags, layout::QuadLayoutOptions* options) {
     options->edge_embedding_iterations = flags.edge_embedding;
     options->edge_embedding_max_vertices = flags.edge_embedding_max_vertices;
     options->edge_embedding_cone_charts = flags.edge_embedding_cone_charts;
+    options->edge_embedding_area_weight = flags.edge_embedding_area_weight;
 }
 
 // The shortest of %.15g and %.17g that reads back as x.
@@ -214,6 +215,9 @@ std::vector<std::string> embedding_arguments(const EmbeddingFlags& flags) {
     if (flags.edge_embedding_cone_charts != defaults.edge_embedding_cone_charts)
         args.insert(args.end(),
                     {"--edge-embedding-cone-charts", exact_number(flags.edge_embedding_cone_charts)});
+    if (flags.edge_embedding_area_weight != defaults.edge_embedding_area_weight)
+        args.insert(args.end(),
+                    {"--edge-embedding-area-weight", exact_number(flags.edge_embedding_area_weight)});
     return args;
 }
 

@@ -45,6 +45,8 @@ struct EmbeddingFlags {
     int edge_embedding_max_vertices = quadcage::layout::QuadLayoutOptions{}.edge_embedding_max_vertices;
     /// --edge-embedding-cone-charts S: the edge embedding's pull towards the corners' cone charts
     double edge_embedding_cone_charts = quadcage::layout::QuadLayoutOptions{}.edge_embedding_cone_charts;
+    /// --edge-embedding-area-weight W: the weight of an area term in the edge embedding's energy
+    double edge_embedding_area_weight = quadcage::layout::QuadLayoutOptions{}.edge_embedding_area_weight;
 };
 
 /// The flags as `layout`/`fit` arguments: only those that differ from the defaults.

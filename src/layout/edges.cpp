@@ -41,8 +41,9 @@ void place_layout_edges(const Mesh& input, QuadLayout* layout, const QuadLayoutO
         EdgeEmbeddingReport r;
         std::string why_not;
         try {
-            why_not = embed_layout_edges(out, options.edge_embedding_iterations, &e, &r,
-                                         kEdgeEmbeddingTolerance, options.edge_embedding_cone_charts);
+            why_not =
+                embed_layout_edges(out, options.edge_embedding_iterations, &e, &r, kEdgeEmbeddingTolerance,
+                                   options.edge_embedding_cone_charts, options.edge_embedding_area_weight);
         } catch (const InternalError& error) {
             // The smoothing below still gives clean edges; a failure here is a bug to report, not
             // a reason to lose the layout.
@@ -55,6 +56,11 @@ void place_layout_edges(const Mesh& input, QuadLayout* layout, const QuadLayoutO
                           r.iterations, r.stopped.c_str(), r.variables, r.initial_energy, r.final_energy,
                           r.seconds);
             std::string said = line;
+            if (options.edge_embedding_area_weight > 0) {
+                std::snprintf(line, sizeof line, "; with an area term of weight %g",
+                              options.edge_embedding_area_weight);
+                said += line;
+            }
             if (r.pulled > 0)
                 said += "; " + std::to_string(r.pulled) + " of them pulled towards the cone charts";
             say(said);

@@ -915,7 +915,8 @@ std::string smooth_layout_edges(const QuadLayout& L, QuadLayout* out, SmoothingR
 }
 
 std::string embed_layout_edges(const QuadLayout& L, int iterations, QuadLayout* out,
-                               EdgeEmbeddingReport* report, double tolerance, double cone_charts) {
+                               EdgeEmbeddingReport* report, double tolerance, double cone_charts,
+                               double area_weight) {
     const auto start = std::chrono::steady_clock::now();
     const Surface s(L.mesh);
     SeamlessMap map;
@@ -932,10 +933,11 @@ std::string embed_layout_edges(const QuadLayout& L, int iterations, QuadLayout* 
         mark_held_ends(L, s, kEmbeddingHeldFraction, &held);
         for (size_t v = 0; v < held.size(); ++v) free[v] = !held[v];
     }
-    EmbeddingOptions symmetric_dirichlet;
-    symmetric_dirichlet.iterations = iterations;
-    symmetric_dirichlet.tolerance = tolerance;
-    const EmbeddingReport r = newton(L, s, symmetric_dirichlet, &map, false, &free, &anchors);
+    EmbeddingOptions energy;
+    energy.iterations = iterations;
+    energy.tolerance = tolerance;
+    energy.area_weight = area_weight;
+    const EmbeddingReport r = newton(L, s, energy, &map, false, &free, &anchors);
     report->variables = r.variables;
     report->iterations = r.iterations;
     report->initial_energy = r.initial_energy;

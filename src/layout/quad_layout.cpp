@@ -35,6 +35,8 @@ std::string QuadLayoutOptions::validate() const {
         return "edge_embedding_max_vertices must be >= 0, got " + std::to_string(edge_embedding_max_vertices);
     if (!(edge_embedding_cone_charts >= 0) || !std::isfinite(edge_embedding_cone_charts))
         return "edge_embedding_cone_charts must be finite and >= 0";
+    if (!(edge_embedding_area_weight >= 0) || !std::isfinite(edge_embedding_area_weight))
+        return "edge_embedding_area_weight must be finite and >= 0";
     if (!(score_margin >= 0 && score_margin < 1)) return "score_margin must be in [0, 1)";
     if (embedding_iterations < 0)
         return "embedding_iterations must be >= 0, got " + std::to_string(embedding_iterations);

@@ -162,6 +162,49 @@ TEST(LayoutPlaceEdges, ConeChartsSpreadTheEdgesEvenlyRoundTheCorners) {
     EXPECT_LE(pulled.layout.quality.corner_angle_mean_deviation_deg, 20.0);  // issue #20's target
 }
 
+// The area term (issue #20's balance): on the big smooth body with two small handles, the edge
+// embedding with an area term spreads the surface more evenly over the patches than symmetric
+// Dirichlet alone, through the same corners, verified and within the bound; the progress line says
+// the weight.
+TEST(LayoutPlaceEdges, AnAreaTermSpreadsTheSurfaceMoreEvenlyOverThePatches) {
+    QuadLayoutOptions built;
+    built.smooth_edges = false;
+    const Mesh body = shapes::body_with_handles();
+    const QuadLayout start = build_quad_layout(body, built);
+    const long long bound = bound_of(start);
+    auto placed = [&](double weight) {
+        QuadLayoutOptions o;
+        o.edge_embedding_area_weight = weight;
+        Placed p{start, {}};
+        place_layout_edges(body, &p.layout, o, bound, [&](const std::string& m) { p.said.push_back(m); });
+        return p;
+    };
+    const Placed plain = placed(0), weighted = placed(10);
+    ASSERT_TRUE(said(weighted.said, "edge embedding: keeping the embedded edges"));
+    bool says_weight = false;
+    for (const std::string& m : weighted.said)
+        says_weight = says_weight || m.find("with an area term of weight 10") != std::string::npos;
+    EXPECT_TRUE(says_weight);
+    EXPECT_EQ(verify_quad_layout(weighted.layout), "");
+    expect_same_corners(weighted.layout, start);
+    EXPECT_LE(weighted.layout.mesh.num_vertices() - weighted.layout.input_vertices, bound);
+    std::cout << "  patch area max/min: relaxed " << start.quality.patch_area_max_over_min
+              << ", symmetric Dirichlet " << plain.layout.quality.patch_area_max_over_min
+              << ", with the area term " << weighted.layout.quality.patch_area_max_over_min << "\n";
+    EXPECT_LT(weighted.layout.quality.patch_area_max_over_min,
+              0.9 * plain.layout.quality.patch_area_max_over_min);
+}
+
+TEST(LayoutPlaceEdges, AreaWeightMustBeFiniteAndNonNegative) {
+    QuadLayoutOptions o;
+    o.edge_embedding_area_weight = -1;
+    EXPECT_NE(o.validate(), "");
+    o.edge_embedding_area_weight = std::numeric_limits<double>::quiet_NaN();
+    EXPECT_NE(o.validate(), "");
+    o.edge_embedding_area_weight = 10;
+    EXPECT_EQ(o.validate(), "");
+}
+
 TEST(LayoutPlaceEdges, ConeChartStrengthMustBeFiniteAndNonNegative) {
     QuadLayoutOptions o;
     o.edge_embedding_cone_charts = -1;

@@ -203,10 +203,12 @@ struct EdgeEmbeddingReport {
 /// weighted cone_charts * its area (at the scale area / quads) / the disk's radius in the map
 /// squared; a corner whose tangent plane folds the disk (a crease) pulls its ring only, laid out
 /// round it with its angles scaled to a full turn.
+/// With area_weight > 0, the energy has EmbeddingOptions::area_weight's area term too, with this
+/// weight: the squares' areas are evened out further, their shapes less kept.
 /// \pre verify_quad_layout(layout) is "".
 std::string embed_layout_edges(const QuadLayout& layout, int iterations, QuadLayout* out,
                                EdgeEmbeddingReport* report, double tolerance = kEdgeEmbeddingTolerance,
-                               double cone_charts = 0);
+                               double cone_charts = 0, double area_weight = 0);
 
 /// Where build_quad_layout() puts the layout edges (edges.cpp), on the relaxed layout: the edge
 /// embedding (embed_layout_edges(), `options.edge_embedding_iterations` steps) where the layout mesh
