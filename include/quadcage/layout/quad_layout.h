@@ -100,10 +100,10 @@ struct QuadLayoutOptions {
     /// default), >= 0: the embedding's area_weight (det J + 1/det J - 2 per triangle at the scale
     /// area / quads), which spreads the surface more evenly over the squares at the cost of their
     /// shapes. The corners and the edges' ends are held as without it. Measured (the README's "An
-    /// area term in the edge embedding"): at 10, patch area max/min falls on every shared mesh tried
-    /// (skull 7.92 -> 3.47, botijo 12.4 -> 8.41) with the level-3 RMS within 1% on five of them,
-    /// but skull's fit gets worse (RMS 7.76e-4 -> 9.32e-4, Hausdorff 9.65e-3 -> 1.24e-2), so it is
-    /// off by default.
+    /// area term in the edge embedding"): at 10, patch area max/min falls on every shared mesh of
+    /// genus >= 2 (skull 7.92 -> 3.47, botijo 12.4 -> 8.41) with the level-3 RMS within 2% on all
+    /// but skull, whose fit gets worse (RMS 7.76e-4 -> 9.32e-4, Hausdorff 9.65e-3 -> 1.24e-2), and
+    /// boot's Hausdorff distance rises (1.01e-2 -> 1.44e-2), so it is off by default.
     double edge_embedding_area_weight = 0;
     /// Newton iterations of the global embedding optimisation (issue #20; 0: skip it), >= 0. The
     /// stage optimises one seamless map of the whole surface over the cage's unit squares
