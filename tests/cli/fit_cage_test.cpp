@@ -174,24 +174,30 @@ TEST(CliFitEmbedding, BenchPassesTheFlagsToOurLayouts) {
     fs::remove_all(dir);
 }
 
+// `quadcage layout` of eight with `flags`, into dir / run.
+CliRun layout_of_eight(const std::string& flags, const fs::path& dir, const char* run) {
+    return quadcage_cli("layout " + shell_quoted(eight()) + flags + " -o " + shell_quoted(dir / run), dir);
+}
+
+// A figure of the `quality` object of dir / run / report.json.
+double layout_quality(const fs::path& dir, const char* run, const char* key) {
+    const nlohmann::json report = nlohmann::json::parse(slurp(dir / run / "report.json"));
+    return report["quality"][key].get<double>();
+}
+
 // `--edge-embedding-cone-charts S` reaches the edge embedding: the progress says how many vertices
 // were pulled, and on eight the corner angles come out more even than with the ends held (17.7 ->
 // 5.1 deg mean deviation by check_layout.py --quality, which report.json now measures alike).
 TEST(CliFitEmbedding, TheConeChartsFlagReachesTheEdgeEmbedding) {
     const fs::path dir = scratch_dir("quadcage_cone_charts_");
-    const CliRun held = quadcage_cli("layout " + shell_quoted(eight()) + " -o " + shell_quoted(dir / "held"), dir);
-    const CliRun pulled = quadcage_cli("layout " + shell_quoted(eight()) + " --edge-embedding-cone-charts 1000 -o " +
-                                           shell_quoted(dir / "pulled"),
-                                       dir);
+    const CliRun held = layout_of_eight("", dir, "held");
+    const CliRun pulled = layout_of_eight(" --edge-embedding-cone-charts 1000", dir, "pulled");
     ASSERT_EQ(held.code, 0) << held.log;
     ASSERT_EQ(pulled.code, 0) << pulled.log;
     EXPECT_EQ(held.log.find("pulled towards the cone charts"), std::string::npos) << held.log;
     EXPECT_NE(pulled.log.find("pulled towards the cone charts"), std::string::npos) << pulled.log;
-    auto angle = [&](const char* run) {
-        const nlohmann::json report = nlohmann::json::parse(slurp(dir / run / "report.json"));
-        return report["quality"]["corner_angle_mean_deviation_deg"].get<double>();
-    };
-    EXPECT_LT(angle("pulled"), angle("held"));
+    const char* angle = "corner_angle_mean_deviation_deg";
+    EXPECT_LT(layout_quality(dir, "pulled", angle), layout_quality(dir, "held", angle));
     fs::remove_all(dir);
 }
 
@@ -200,25 +206,15 @@ TEST(CliFitEmbedding, TheConeChartsFlagReachesTheEdgeEmbedding) {
 // 10); a negative weight is a usage error that writes nothing.
 TEST(CliFitEmbedding, TheAreaWeightFlagReachesTheEdgeEmbedding) {
     const fs::path dir = scratch_dir("quadcage_edge_area_weight_");
-    const CliRun plain =
-        quadcage_cli("layout " + shell_quoted(eight()) + " -o " + shell_quoted(dir / "plain"), dir);
-    const CliRun weighted =
-        quadcage_cli("layout " + shell_quoted(eight()) + " --edge-embedding-area-weight 10 -o " +
-                         shell_quoted(dir / "weighted"),
-                     dir);
+    const CliRun plain = layout_of_eight("", dir, "plain");
+    const CliRun weighted = layout_of_eight(" --edge-embedding-area-weight 10", dir, "weighted");
     ASSERT_EQ(plain.code, 0) << plain.log;
     ASSERT_EQ(weighted.code, 0) << weighted.log;
     EXPECT_EQ(plain.log.find("with an area term"), std::string::npos) << plain.log;
     EXPECT_NE(weighted.log.find("with an area term of weight 10"), std::string::npos) << weighted.log;
-    auto balance = [&](const char* run) {
-        const nlohmann::json report = nlohmann::json::parse(slurp(dir / run / "report.json"));
-        return report["quality"]["patch_area_max_over_min"].get<double>();
-    };
-    EXPECT_LT(balance("weighted"), balance("plain"));
-    const CliRun negative =
-        quadcage_cli("layout " + shell_quoted(eight()) + " --edge-embedding-area-weight -1 -o " +
-                         shell_quoted(dir / "negative"),
-                     dir);
+    const char* balance = "patch_area_max_over_min";
+    EXPECT_LT(layout_quality(dir, "weighted", balance), layout_quality(dir, "plain", balance));
+    const CliRun negative = layout_of_eight(" --edge-embedding-area-weight -1", dir, "negative");
     EXPECT_EQ(negative.code, 2) << negative.log;
     EXPECT_FALSE(fs::exists(dir / "negative"));
     fs::remove_all(dir);

@@ -127,30 +127,51 @@ TEST(LayoutPlaceEdges, WithoutSmoothingTheEdgesStayAlongMeshEdges) {
     EXPECT_EQ(p.layout.triangle_patch, staircase().triangle_patch);
 }
 
+// A big smooth body with two small handles (the class whose corners crowd round the handles), its
+// verified layout with the edges along mesh edges, and place_layout_edges() on it.
+const Mesh& body() {
+    static const Mesh m = shapes::body_with_handles();
+    return m;
+}
+
+const QuadLayout& body_staircase() {
+    static const QuadLayout L = [] {
+        QuadLayoutOptions o;
+        o.smooth_edges = false;
+        return build_quad_layout(body(), o);
+    }();
+    return L;
+}
+
+Placed place_on_body(const QuadLayoutOptions& options) {
+    Placed p{body_staircase(), {}};
+    place_layout_edges(body(), &p.layout, options, bound_of(body_staircase()),
+                       [&](const std::string& m) { p.said.push_back(m); });
+    return p;
+}
+
+// Whether a progress line contains `part`.
+bool says(const std::vector<std::string>& lines, const std::string& part) {
+    return std::any_of(lines.begin(), lines.end(),
+                       [&](const std::string& m) { return m.find(part) != std::string::npos; });
+}
+
 // The cone charts (issue #20's corner angles) pull the map round each corner towards the conformal
 // map that spreads the corner's edges evenly in its tangent plane; on a big smooth body with two
 // small handles (the class whose corners crowd round the handles) they lower the mean corner angle
 // deviation check_layout.py --quality measures well below the held ends' (29.9 -> 16.0 deg through
 // `quadcage layout --choose-s-cycles shape`), with the same corners and a verified layout.
 TEST(LayoutPlaceEdges, ConeChartsSpreadTheEdgesEvenlyRoundTheCorners) {
-    QuadLayoutOptions built;
-    built.smooth_edges = false;
-    const Mesh body = shapes::body_with_handles();
-    const QuadLayout start = build_quad_layout(body, built);
+    const QuadLayout& start = body_staircase();
     const long long bound = bound_of(start);
-    auto placed = [&](double charts) {
+    auto placed = [](double charts) {
         QuadLayoutOptions o;
         o.edge_embedding_cone_charts = charts;
-        Placed p{start, {}};
-        place_layout_edges(body, &p.layout, o, bound, [&](const std::string& m) { p.said.push_back(m); });
-        return p;
+        return place_on_body(o);
     };
     const Placed held = placed(0), pulled = placed(1000);
     ASSERT_TRUE(said(pulled.said, "edge embedding: keeping the embedded edges"));
-    bool says_pulled = false;
-    for (const std::string& m : pulled.said)
-        says_pulled = says_pulled || m.find("pulled towards the cone charts") != std::string::npos;
-    EXPECT_TRUE(says_pulled);
+    EXPECT_TRUE(says(pulled.said, "pulled towards the cone charts"));
     EXPECT_EQ(verify_quad_layout(pulled.layout), "");
     expect_same_corners(pulled.layout, start);
     EXPECT_LE(pulled.layout.mesh.num_vertices() - pulled.layout.input_vertices, bound);
@@ -167,24 +188,17 @@ TEST(LayoutPlaceEdges, ConeChartsSpreadTheEdgesEvenlyRoundTheCorners) {
 // Dirichlet alone, through the same corners, verified and within the bound; the progress line says
 // the weight.
 TEST(LayoutPlaceEdges, AnAreaTermSpreadsTheSurfaceMoreEvenlyOverThePatches) {
-    QuadLayoutOptions built;
-    built.smooth_edges = false;
-    const Mesh body = shapes::body_with_handles();
-    const QuadLayout start = build_quad_layout(body, built);
+    const QuadLayout& start = body_staircase();
     const long long bound = bound_of(start);
-    auto placed = [&](double weight) {
+    auto placed = [](double weight) {
         QuadLayoutOptions o;
         o.edge_embedding_area_weight = weight;
-        Placed p{start, {}};
-        place_layout_edges(body, &p.layout, o, bound, [&](const std::string& m) { p.said.push_back(m); });
-        return p;
+        return place_on_body(o);
     };
     const Placed plain = placed(0), weighted = placed(10);
     ASSERT_TRUE(said(weighted.said, "edge embedding: keeping the embedded edges"));
-    bool says_weight = false;
-    for (const std::string& m : weighted.said)
-        says_weight = says_weight || m.find("with an area term of weight 10") != std::string::npos;
-    EXPECT_TRUE(says_weight);
+    EXPECT_TRUE(says(weighted.said, "with an area term of weight 10"));
+    EXPECT_FALSE(says(plain.said, "with an area term"));
     EXPECT_EQ(verify_quad_layout(weighted.layout), "");
     expect_same_corners(weighted.layout, start);
     EXPECT_LE(weighted.layout.mesh.num_vertices() - weighted.layout.input_vertices, bound);
