@@ -11,6 +11,7 @@
 #include <condition_variable>
 #include <cstdio>
 #include <exception>
+#include <limits>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -471,10 +472,34 @@ QuadLayout layout_of_better_s_cycles(const Mesh& input, const Cycles& cycles,
     return out;
 }
 
-}  // namespace
+// How far build_quad_layout() moves a mesh along each axis before the layout: along an axis where it
+// lies at least kFarFromOrigin times its extent from the origin, by its nearest coordinate (every
+// coordinate c along it is then within a factor of 2 of that one, so c - nearest is exact
+// (Sterbenz), and so is the way back); else not at all. Far out, the coordinates' rounding is large
+// against the triangles and the layout's tolerances, which are relative to the triangles: eight
+// moved by 1e6 along each axis (an ulp of 1e6 is 1.2e-10; its triangles' edges are about 0.05) had
+// 590 of its unused splits undone instead of 2,072, its embedded edges added 2,129 vertices against
+// a bound of 1,791, its curves could not be traced again on the input's triangles, and it kept its
+// edges along mesh edges with 1,699 vertices added, against 832 and embedded edges at the origin.
+constexpr double kFarFromOrigin = 64;
 
-QuadLayout build_quad_layout(const Mesh& input, const QuadLayoutOptions& options) {
-    if (const std::string e = options.validate(); !e.empty()) throw InvalidInput("quad layout options: " + e);
+Vec3 offset_for_layout(const Mesh& mesh) {
+    const double inf = std::numeric_limits<double>::infinity();
+    double lo[3] = {inf, inf, inf}, hi[3] = {-inf, -inf, -inf};
+    for (const Vec3& p : mesh.points) {
+        const double c[3] = {p.x, p.y, p.z};
+        for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], c[k]), hi[k] = std::max(hi[k], c[k]);
+    }
+    double offset[3] = {0, 0, 0};
+    for (int k = 0; k < 3 && !mesh.points.empty(); ++k) {
+        const double extent = hi[k] - lo[k];
+        if (lo[k] > 0 && lo[k] >= kFarFromOrigin * extent) offset[k] = lo[k];
+        if (hi[k] < 0 && -hi[k] >= kFarFromOrigin * extent) offset[k] = hi[k];
+    }
+    return {offset[0], offset[1], offset[2]};
+}
+
+QuadLayout build_layout_in_place(const Mesh& input, const QuadLayoutOptions& options) {
     const Say say = [&options](const std::string& m) {
         if (options.progress) options.progress(m);
     };
@@ -502,6 +527,21 @@ QuadLayout build_quad_layout(const Mesh& input, const QuadLayoutOptions& options
     if (added > bound)
         say("refinement: " + std::to_string(added) + " vertices added, over the bound of " +
             std::to_string(bound) + " (a quarter of the input's plus 200 per corner)");
+    return out;
+}
+
+}  // namespace
+
+QuadLayout build_quad_layout(const Mesh& input, const QuadLayoutOptions& options) {
+    if (const std::string e = options.validate(); !e.empty()) throw InvalidInput("quad layout options: " + e);
+    const Vec3 offset = offset_for_layout(input);
+    if (offset.x == 0 && offset.y == 0 && offset.z == 0) return build_layout_in_place(input, options);
+    // Built near the origin and moved back: the input's points come back exactly.
+    Mesh near = input;
+    for (Vec3& p : near.points) p = p - offset;
+    QuadLayout out = build_layout_in_place(near, options);
+    for (Vec3& p : out.mesh.points) p = p + offset;
+    for (Vec3& p : out.cage.points) p = p + offset;
     return out;
 }
 

@@ -542,6 +542,40 @@ TEST(QuadLayoutSCycleChoice, AlgorithmOnesAreNotTriedPastTheRefinementBound) {
     EXPECT_EQ(L.triangle_patch, from_loops.triangle_patch);
 }
 
+// A mesh far from the origin for its size (a part placed in a CAD assembly, a georeferenced scan):
+// eight moved by 1e6 along each axis gets the layout eight gets at the origin, moved: as many
+// vertices, the same patches, the embedded edges, and the input's points exactly. Built where it
+// lies, its unused splits were not undone and it kept its edges along mesh edges, with 1,699
+// vertices added against 832.
+TEST(QuadLayoutFarFromTheOrigin, GetsTheLayoutItGetsAtTheOrigin) {
+    const Mesh input = read_mesh(std::string(QUADCAGE_DATA_DIR) + "/eight.off");
+    Mesh far = input;
+    for (Vec3& p : far.points) p = p + Vec3{1e6, 1e6, 1e6};
+    std::vector<std::string> said;
+    layout::QuadLayoutOptions o;
+    o.progress = [&said](const std::string& m) { said.push_back(m); };
+    const QuadLayout here = build_quad_layout(input), there = build_quad_layout(far, o);
+    ASSERT_EQ(verify_quad_layout(there), "");
+    EXPECT_EQ(there.mesh.num_vertices(), here.mesh.num_vertices());
+    EXPECT_EQ(there.triangle_patch, here.triangle_patch);
+    EXPECT_TRUE(there.edges_smoothed);
+    EXPECT_TRUE(std::any_of(said.begin(), said.end(), [](const std::string& m) {
+        return m.rfind("edge embedding: keeping the embedded edges", 0) == 0;
+    }));
+    EXPECT_NEAR(there.quality.patch_area_max_over_min, here.quality.patch_area_max_over_min,
+                1e-6 * here.quality.patch_area_max_over_min);
+    for (int v = 0; v < input.num_vertices(); ++v) {
+        ASSERT_EQ(there.mesh.points[v].x, far.points[v].x) << v;
+        ASSERT_EQ(there.mesh.points[v].y, far.points[v].y) << v;
+        ASSERT_EQ(there.mesh.points[v].z, far.points[v].z) << v;
+    }
+    for (int c = 0; c < there.cage.num_corners(); ++c) {
+        EXPECT_EQ(there.cage.points[c].x, there.mesh.points[there.corner_vertex[c]].x);
+        EXPECT_EQ(there.cage.points[c].y, there.mesh.points[there.corner_vertex[c]].y);
+        EXPECT_EQ(there.cage.points[c].z, there.mesh.points[there.corner_vertex[c]].z);
+    }
+}
+
 // A wheel (input_wheel's class, `generate wheel -g 7 -r 3`): the handle loops' body annuli wind
 // round the ring of holes in bundles; the S-cycles round the necks are kept instead, better on
 // both counts, and the layout verifies. Without s_cycles_from_necks they are not built.
