@@ -180,7 +180,9 @@ struct QuadLayout {
 /// 10g-10 quads and 8g-8 corners of degree 5 (Algorithm 1: 4g-4 cycles S_i cut the surface into
 /// 2g-2 handles of 2 quads and g-1 T-shirts of 6 quads); for g = 1, 4 quads with 4 corners of degree
 /// 4 (Remark 1); for g = 0, a cube (6 quads, 8 corners of degree 3). Runs verify_quad_layout() on its
-/// result. Deterministic.
+/// result. Deterministic. A mesh at least 64 times its extent from the origin along an axis is laid
+/// out moved next to the origin and moved back, both exactly: the result lies where the mesh does,
+/// its input points bit for bit, and is the layout the mesh gets at the origin.
 /// \pre mesh is closed, connected, manifold, consistently oriented outward (core::prepare_for_quadding()).
 /// \throw InvalidInput if the precondition fails or the genus exceeds options.cycles.max_genus.
 QuadLayout build_quad_layout(const Mesh& mesh, const QuadLayoutOptions& options = {});
