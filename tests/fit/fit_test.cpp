@@ -67,8 +67,14 @@ void check_levels(const layout::QuadLayout& layout, int max_level, int accuracy_
         EXPECT_NEAR(l.relative.rms * l.diagonal, l.absolute.rms, 1e-12 * l.diagonal);
         EXPECT_GE(l.relative.hausdorff, l.relative.rms);
         if (level > 0) {
-            EXPECT_LE(l.relative.rms, reports[level - 1].relative.rms) << describe(l);
-            EXPECT_LE(l.relative.hausdorff, reports[level - 1].relative.hausdorff) << describe(l);
+            // A level that kept the previous fit refined has the previous level's surface, measured
+            // again at its own search level: its figures may differ from the previous level's by
+            // rounding (the torus's Hausdorff distance at level 4: 4e-13 relative above level 3's on
+            // one machine, the same point's distance), so they are compared to within 1e-9 there.
+            const bool same_surface = l.stop_reason.find("kept the refined previous fit") != std::string::npos;
+            const double slack = same_surface ? 1 + 1e-9 : 1;
+            EXPECT_LE(l.relative.rms, slack * reports[level - 1].relative.rms) << describe(l);
+            EXPECT_LE(l.relative.hausdorff, slack * reports[level - 1].relative.hausdorff) << describe(l);
         }
     }
     EXPECT_LE(reports[accuracy_level].relative.rms, 2e-3);
