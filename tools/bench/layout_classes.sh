@@ -11,9 +11,10 @@
 #     round the hub (input_wheel's fins): `--ribs 16`; tessellated as input_wheel is, as a CAD
 #     system exports a solid (flat faces as fans of long, thin triangles): `--cad`, fitted with the
 #     long edges split first (the default) and without (`--no-long-edge-splits`).
-# On the CAD rows check_fit.py's nearest-centroid search misjudges the distance to the long, thin
-# triangles (README, "Shapes like the ones that fail"), so those rows also give, in brackets, its
-# figures against the same surface with every edge longer than the median split
+# On the CAD rows and the limbs rows (whose triangles are stretched along the limbs)
+# check_fit.py's nearest-centroid search misjudges the distance to the long, thin triangles
+# (README, "Shapes like the ones that fail"), so those rows also give, in brackets, its figures
+# against the same surface with every edge longer than the median split
 # (tools/bench/split_long_edges.py; a 1-to-4 split keeps the triangles as thin, and the error).
 # Fit level 3, level 4 for genus 0 and 1 (6- and 4-quad cages). Issue 20's targets on every row:
 # area max/min <= 4, fit RMS <= 1e-3 and Hausdorff <= 1e-2. The script reports; it asserts nothing.
@@ -31,8 +32,8 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 
 cases=(
-  "limbs seed 1|limbs --limbs 4 --seed 1 -r 4"
-  "limbs seed 20|limbs --limbs 5 --seed 20 -r 4"
+  "limbs seed 1|limbs --limbs 4 --seed 1 -r 4||fine"
+  "limbs seed 20|limbs --limbs 5 --seed 20 -r 4||fine"
   "handles g1|handles -g 1 -r 3"
   "handles g1 bumps|handles -g 1 -r 3 --bumps 12"
   "handles g2|handles -g 2 -r 3"
