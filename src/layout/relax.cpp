@@ -15,6 +15,17 @@ namespace quadcage::layout::detail {
 
 namespace {
 
+// Regions with at least this many unknowns are factorised by CHOLMOD's supernodal LLT, smaller ones
+// by Eigen's simplicial LDLT. On botijo split twice (regions of tens of thousands of vertices) the
+// supernodal solves cut the two relaxations from 110.9 and 66.2 s to 89.1 and 50.0 s; on
+// input_wheel (regions of a few thousand) they made the layout slower (38.3, 39.6 s -> 42.6, 46.0 s).
+// The layouts were byte-identical both ways on every shared mesh tried (README, Benchmarks).
+constexpr int kSupernodalUnknowns = 20000;
+
+HarmonicSolver solver_for(int unknowns) {
+    return unknowns >= kSupernodalUnknowns ? HarmonicSolver::Supernodal : HarmonicSolver::Simplicial;
+}
+
 // The area of the triangles `tris` as it lies in a map of them into [-1, 1]^2 (uv(i, k): the image
 // of corner k of tris[i]), binned on a 32 x 32 grid: per non-empty bin, the area-weighted mean
 // image of its triangles' centroids and their area (twice the area, as a weight).
@@ -227,7 +238,7 @@ int relax_layout_edges(const Surface& s, std::vector<std::vector<int>>* paths, c
                     for (int v : mesh.triangles[t]) slot.push_back(local[v] >= 0 ? local[v] : m - 2 - local[v]);
                 Eigen::MatrixXd x;
                 if (harmonic_extension(
-                        weight, tris, slot, m, 1, [&](int b, int) { return h[boundary[b]]; }, &x)) {
+                        weight, tris, slot, m, 1, [&](int b, int) { return h[boundary[b]]; }, &x, solver_for(m))) {
                     for (int i = 0; i < m; ++i) h[interior[i]] = x(i, 0);
                     // Shortest path c0 -> c1 through interior vertices, cheapest near h = 1/2.
                     for (int v : interior) blocked[v] = 0;
@@ -436,7 +447,7 @@ int relax_layout_corners(const Surface& s, std::vector<int>* corners, std::vecto
             }
             Eigen::MatrixXd x;
             if (harmonic_extension(
-                    weight, tris, slot, m, 2, [&](int b, int col) { return boundary_uv[b][col]; }, &x)) {
+                    weight, tris, slot, m, 2, [&](int b, int col) { return boundary_uv[b][col]; }, &x, solver_for(m))) {
                 for (int i = 0; i < m; ++i) free_uv[i] = {x(i, 0), x(i, 1)};
                 // Halfway from the centre of the map (which keeps the patches' shapes) to the point
                 // that splits the area evenly.

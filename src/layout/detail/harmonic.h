@@ -23,8 +23,9 @@ private:
     std::vector<double> w_;
 };
 
-/// How harmonic_extension() factorises: Eigen's simplicial LDLT (the relaxation's regions) or
-/// CHOLMOD's supernodal LLT (harmonic_across()'s whole surface).
+/// How harmonic_extension() factorises: Eigen's simplicial LDLT (the relaxation's smaller regions) or
+/// CHOLMOD's supernodal LLT (the relaxation's regions of 20k unknowns or more, harmonic_across()'s
+/// whole surface).
 enum class HarmonicSolver { Simplicial, Supernodal };
 
 /// The harmonic extension over the triangles `tris`, whose corners have ids slot[3 i + k] (corner k
