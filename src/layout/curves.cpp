@@ -1,4 +1,5 @@
 #include "detail/curves.h"
+#include "detail/search.h"
 
 #include <algorithm>
 #include <cmath>
@@ -384,6 +385,15 @@ std::vector<int> Builder::sector_path(int x, const std::vector<int>& from_sector
         (*reached)[x] = (*reached)[y] = 1;
     }
     if (q.sources.empty() || q.targets.empty()) return {};
+    if (!reached && bound == std::numeric_limits<double>::infinity()) {  // only the path wanted
+        double t = 0;
+        std::vector<int> p;
+        if (const NearCost* near = cost.target<NearCost>()) p = search::run_both_ways(s_, q, *near, &t);
+        else if (cost) p = search::run_both_ways(s_, q, cost, &t);
+        else p = search::run_both_ways(s_, q, [this](int h) { return s_.length(h); }, &t);
+        if (!p.empty() && total) *total = t;
+        return p;
+    }
     const PathResult r = dijkstra(s_, q);
     if (r.target < 0) {
         if (reached)

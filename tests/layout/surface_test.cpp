@@ -226,6 +226,75 @@ TEST(LayoutSurface, DijkstraWithACostLambdaIsDijkstraWithThatCost) {
     EXPECT_EQ(dijkstra(s, q).target_cost, dijkstra_with(s, q, cost).target_cost);
 }
 
+// run_both_ways() finds the path run_dijkstra() finds between the same sources and targets, at the
+// same cost up to rounding (summed from both ends), with blocked vertices and a cost of its own;
+// nothing where a wall separates them; and its per-thread scratch, used on a larger surface in
+// between, changes nothing.
+TEST(LayoutSurface, SearchFromBothEndsFindsTheOneWayPath) {
+    const Surface s(shapes::icosphere(4));
+    const auto cost = [&s](int h) { return s.length(h) * (2.5 + s.point(s.to(h)).z + s.point(s.from(h)).z); };  // > 0
+    std::vector<char> block(s.num_vertices(), 0);
+    for (int v = 0; v < s.num_vertices(); ++v) block[v] = std::abs(s.point(v).x) < 0.04 && s.point(v).z > -0.6;
+    std::mt19937 rng(3);
+    std::uniform_int_distribution<int> vertex(0, s.num_vertices() - 1);
+    std::uniform_real_distribution<double> start(0.0, 0.2);
+    std::vector<std::vector<int>> paths;
+    int found = 0;
+    for (int trial = 0; trial < 40; ++trial) {
+        PathSearch q;
+        q.blocked = &block;
+        for (int k = 0; k < 3; ++k) {
+            const int a = vertex(rng), b = vertex(rng);
+            const double ca = start(rng), cb = start(rng);
+            if (!block[a]) q.sources.push_back({a, ca});
+            if (!block[b]) q.targets.push_back({b, cb});
+        }
+        const PathResult one = dijkstra_with(s, q, cost);
+        double total = -1;
+        const std::vector<int> both = search::run_both_ways(s, q, cost, &total);
+        paths.push_back(both);
+        if (one.target < 0) {
+            EXPECT_TRUE(both.empty()) << "trial " << trial;
+            continue;
+        }
+        ++found;
+        EXPECT_EQ(both, one.path_to(s, one.target)) << "trial " << trial;
+        EXPECT_NEAR(total, one.target_cost, 1e-12 * one.target_cost) << "trial " << trial;
+        for (int v : both) EXPECT_FALSE(block[v]) << "trial " << trial;
+    }
+    EXPECT_GT(found, 20);
+    // A wall all round the sphere: nothing from one side to the other.
+    std::vector<char> wall(s.num_vertices(), 0);
+    for (int v = 0; v < s.num_vertices(); ++v) wall[v] = std::abs(s.point(v).z) < 0.1;
+    PathSearch apart;
+    apart.blocked = &wall;
+    int top = 0, bottom = 0;
+    for (int v = 0; v < s.num_vertices(); ++v) {
+        if (s.point(v).z > s.point(top).z) top = v;
+        if (s.point(v).z < s.point(bottom).z) bottom = v;
+    }
+    apart.sources = {{top, 0.0}};
+    apart.targets = {{bottom, 0.0}};
+    double total = -1;
+    EXPECT_TRUE(search::run_both_ways(s, apart, cost, &total).empty());
+    EXPECT_EQ(total, -1);
+    // The scratch, grown on a larger surface, leaves the first searches' answers as they were.
+    const Surface large(shapes::icosphere(5));
+    search::run_both_ways(large, apart, [&large](int h) { return large.length(h); }, &total);
+    std::mt19937 again(3);
+    for (int trial = 0; trial < 40; ++trial) {
+        PathSearch q;
+        q.blocked = &block;
+        for (int k = 0; k < 3; ++k) {
+            const int a = vertex(again), b = vertex(again);
+            const double ca = start(again), cb = start(again);
+            if (!block[a]) q.sources.push_back({a, ca});
+            if (!block[b]) q.targets.push_back({b, cb});
+        }
+        EXPECT_EQ(search::run_both_ways(s, q, cost, &total), paths[trial]) << "trial " << trial;
+    }
+}
+
 // lower_distances() adds sources to a distance field: the result is the field of all the sources
 // searched together, to the last bit, with blocked vertices and a distance limit.
 TEST(LayoutSurface, LowerDistancesGivesTheFieldOfAllTheSources) {

@@ -157,6 +157,103 @@ PathResult run_dijkstra(const Surface& s, const PathSearch& q, const Cost& cost)
     return r;
 }
 
+
+// One end of run_both_ways(): distances, the half-edge each vertex was reached by and settled
+// flags, sized to the largest surface searched and left clean (+inf, -1, 0) after each search.
+struct Front {
+    std::vector<double> d;
+    std::vector<int> parent;
+    std::vector<char> done;
+    std::vector<HeapItem> heap;
+    std::vector<int> touched;  // vertices given a distance, each once
+
+    void reserve(int n) {
+        if (static_cast<int>(d.size()) >= n) return;
+        d.resize(n, std::numeric_limits<double>::infinity());
+        parent.resize(n, -1);
+        done.resize(n, 0);
+    }
+    void reach(int v, double c, int h) {
+        if (d[v] == std::numeric_limits<double>::infinity()) touched.push_back(v);
+        d[v] = c;
+        parent[v] = h;
+        heap_push(heap, {c, v});
+    }
+    // The nearest vertex not settled yet, or -1.
+    int top() {
+        while (!heap.empty() && done[heap.front().second]) heap_pop(heap);
+        return heap.empty() ? -1 : heap.front().second;
+    }
+    void clear() {
+        for (int v : touched) d[v] = std::numeric_limits<double>::infinity(), parent[v] = -1, done[v] = 0;
+        touched.clear();
+        heap.clear();
+    }
+};
+
+// The cheapest path from q.sources to q.targets (their costs, and q.blocked, as run_dijkstra()
+// reads them; q.max_distance and q.settle are not read), searched from both ends at once: a forward
+// search from the sources and a backward one from the targets (entering w from x costs
+// cost(twin of x->w)). Each step settles the nearer of the two fronts' next vertices; the search
+// stops once those two distances add up to no less than the cheapest path through a vertex both
+// have reached. Where a search settles the vertices within distance D of its sources, the two
+// settle those within about D/2 of either end: on a loop round a handle, searched from the two
+// sides of one vertex, about half as many. Returns the path (a source first, a target last) and its
+// cost in *total, or nothing. The cost is the same sum as run_dijkstra()'s target_cost, grouped
+// from both ends, so it can differ from it in the last bits. Where two paths' costs are that close,
+// either may be returned.
+template <class Cost>
+std::vector<int> run_both_ways(const Surface& s, const PathSearch& q, const Cost& cost, double* total) {
+    const int n = s.num_vertices();
+    const double inf = std::numeric_limits<double>::infinity();
+    thread_local Front f, b;
+    f.reserve(n);
+    b.reserve(n);
+    struct Clean {
+        ~Clean() { f.clear(), b.clear(); }
+    } clean;
+    for (auto [v, c] : q.sources)
+        if (c < f.d[v]) f.reach(v, c, -1);
+    for (auto [v, c] : q.targets)
+        if (c < b.d[v]) b.reach(v, c, -1);
+    double best = inf;
+    int meet = -1;
+    for (auto [v, c] : q.sources)
+        if (f.d[v] + b.d[v] < best) best = f.d[v] + b.d[v], meet = v;
+    for (;;) {
+        const int fv = f.top(), bv = b.top();
+        if (fv < 0 || bv < 0 || f.d[fv] + b.d[bv] >= best) break;
+        const bool forward = f.d[fv] <= b.d[bv];
+        Front& me = forward ? f : b;
+        const Front& other = forward ? b : f;
+        const int v = forward ? fv : bv;
+        const double d = me.d[v];
+        heap_pop(me.heap);
+        me.done[v] = 1;
+        const int h0 = s.out_half_edge(v);
+        int h = h0;
+        do {
+            const int x = s.to(h);
+            if (!me.done[x] && !(q.blocked && (*q.blocked)[x])) {
+                const double nd = d + (forward ? cost(h) : cost(s.twin(h)));
+                if (nd < me.d[x]) {
+                    me.reach(x, nd, h);
+                    if (nd + other.d[x] < best) best = nd + other.d[x], meet = x;
+                }
+            }
+            h = s.rotate(h);
+        } while (h != h0);
+    }
+    std::vector<int> path;
+    if (meet < 0) return path;
+    for (int v = meet; f.parent[v] >= 0;) path.push_back(v = s.from(f.parent[v]));
+    std::reverse(path.begin(), path.end());
+    path.push_back(meet);
+    for (int v = meet; b.parent[v] >= 0;) path.push_back(v = s.from(b.parent[v]));
+    *total = best;
+    return path;
+}
+
 }  // namespace search
 
 /// dijkstra() with the path cost `cost` (search.cost is not used): the same search, with a cost
