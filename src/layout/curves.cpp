@@ -385,12 +385,18 @@ std::vector<int> Builder::sector_path(int x, const std::vector<int>& from_sector
         (*reached)[x] = (*reached)[y] = 1;
     }
     if (q.sources.empty() || q.targets.empty()) return {};
-    if (!reached && bound == std::numeric_limits<double>::infinity()) {  // only the path wanted
+    // The search from both ends, unless a bound and `reached` are both given (the settled set of a
+    // bounded search is not the one-way search's).
+    if (!reached || bound == std::numeric_limits<double>::infinity()) {
         double t = 0;
         std::vector<int> p;
-        if (const NearCost* near = cost.target<NearCost>()) p = search::run_both_ways(s_, q, *near, &t);
-        else if (cost) p = search::run_both_ways(s_, q, cost, &t);
-        else p = search::run_both_ways(s_, q, [this](int h) { return s_.length(h); }, &t);
+        const auto length = [this](int h) { return s_.length(h); };
+        if (const NearCost* near = cost.target<NearCost>())
+            p = search::run_both_ways(s_, q, *near, &t, bound, reached);
+        else if (cost)
+            p = search::run_both_ways(s_, q, cost, &t, bound, reached);
+        else
+            p = search::run_both_ways(s_, q, length, &t, bound, reached);
         if (!p.empty() && total) *total = t;
         return p;
     }

@@ -238,6 +238,20 @@ TEST(LayoutSurface, SearchFromBothEndsFindsTheOneWayPath) {
     std::mt19937 rng(3);
     std::uniform_int_distribution<int> vertex(0, s.num_vertices() - 1);
     std::uniform_real_distribution<double> start(0.0, 0.2);
+    // Both searches on q: the same path (or none) at the same cost; counts the paths found.
+    auto compare = [&](const PathSearch& q, int trial, int* found) {
+        const PathResult one = dijkstra_with(s, q, cost);
+        double total = -1;
+        const std::vector<int> both = search::run_both_ways(s, q, cost, &total);
+        if (one.target < 0) {
+            EXPECT_TRUE(both.empty()) << "trial " << trial;
+            return both;
+        }
+        ++*found;
+        EXPECT_EQ(both, one.path_to(s, one.target)) << "trial " << trial;
+        EXPECT_NEAR(total, one.target_cost, 1e-12 * one.target_cost) << "trial " << trial;
+        return both;
+    };
     std::vector<std::vector<int>> paths;
     int found = 0;
     for (int trial = 0; trial < 40; ++trial) {
@@ -249,20 +263,30 @@ TEST(LayoutSurface, SearchFromBothEndsFindsTheOneWayPath) {
             if (!block[a]) q.sources.push_back({a, ca});
             if (!block[b]) q.targets.push_back({b, cb});
         }
-        const PathResult one = dijkstra_with(s, q, cost);
-        double total = -1;
-        const std::vector<int> both = search::run_both_ways(s, q, cost, &total);
-        paths.push_back(both);
-        if (one.target < 0) {
-            EXPECT_TRUE(both.empty()) << "trial " << trial;
-            continue;
-        }
-        ++found;
-        EXPECT_EQ(both, one.path_to(s, one.target)) << "trial " << trial;
-        EXPECT_NEAR(total, one.target_cost, 1e-12 * one.target_cost) << "trial " << trial;
-        for (int v : both) EXPECT_FALSE(block[v]) << "trial " << trial;
+        paths.push_back(compare(q, trial, &found));
+        for (int v : paths.back()) EXPECT_FALSE(block[v]) << "trial " << trial;
     }
     EXPECT_GT(found, 20);
+    // Sources inside the wall (a search may start there, as the necks' start on a path they block)
+    // at costs up to about the paths' own: the path leaves them at once, and the cheapest start
+    // need not be the one settled first.
+    std::uniform_real_distribution<double> wall_start(0.0, 3.0);
+    std::vector<int> walled;
+    for (int v = 0; v < s.num_vertices(); ++v)
+        if (block[v]) walled.push_back(v);
+    ASSERT_GT(walled.size(), 10u);
+    int from_wall = 0;
+    for (int trial = 0; trial < 40; ++trial) {
+        PathSearch q;
+        q.blocked = &block;
+        for (int k = 0; k < 3; ++k) {
+            q.sources.push_back({walled[vertex(rng) % walled.size()], wall_start(rng)});
+            const int b = vertex(rng);
+            if (!block[b]) q.targets.push_back({b, start(rng)});
+        }
+        compare(q, trial, &from_wall);
+    }
+    EXPECT_GT(from_wall, 20);
     // A wall all round the sphere: nothing from one side to the other.
     std::vector<char> wall(s.num_vertices(), 0);
     for (int v = 0; v < s.num_vertices(); ++v) wall[v] = std::abs(s.point(v).z) < 0.1;
@@ -278,6 +302,18 @@ TEST(LayoutSurface, SearchFromBothEndsFindsTheOneWayPath) {
     double total = -1;
     EXPECT_TRUE(search::run_both_ways(s, apart, cost, &total).empty());
     EXPECT_EQ(total, -1);
+    constexpr double kInf = std::numeric_limits<double>::infinity();
+    // Failing, it marks what the one-way search settles: the top's side of the wall, every vertex.
+    std::vector<char> settled(s.num_vertices(), 0);
+    EXPECT_TRUE(search::run_both_ways(s, apart, cost, &total, kInf, &settled).empty());
+    const PathResult from_top = dijkstra_with(s, apart, cost);
+    ASSERT_LT(from_top.target, 0);
+    int above = 0;
+    for (int v = 0; v < s.num_vertices(); ++v) {
+        EXPECT_EQ(settled[v] != 0, from_top.distance[v] < kInf) << "vertex " << v;
+        above += settled[v];
+    }
+    EXPECT_GT(above, s.num_vertices() / 3);
     // The scratch, grown on a larger surface, leaves the first searches' answers as they were.
     const Surface large(shapes::icosphere(5));
     search::run_both_ways(large, apart, [&large](int h) { return large.length(h); }, &total);
@@ -292,6 +328,14 @@ TEST(LayoutSurface, SearchFromBothEndsFindsTheOneWayPath) {
             if (!block[b]) q.targets.push_back({b, cb});
         }
         EXPECT_EQ(search::run_both_ways(s, q, cost, &total), paths[trial]) << "trial " << trial;
+        // Bounded: the same path when it is cheaper than the bound, none when it is not.
+        if (paths[trial].empty()) continue;
+        const double cheapest = total;
+        std::vector<char> unused(s.num_vertices(), 0);
+        EXPECT_EQ(search::run_both_ways(s, q, cost, &total, 1.01 * cheapest, &unused), paths[trial])
+            << "trial " << trial;
+        EXPECT_TRUE(search::run_both_ways(s, q, cost, &total, 0.99 * cheapest).empty()) << "trial " << trial;
+        EXPECT_EQ(std::count(unused.begin(), unused.end(), 1), 0) << "trial " << trial;
     }
 }
 

@@ -187,8 +187,10 @@ public:
     /// `reached` (if given) marks the vertices the search settled. A path whose search must settle
     /// a vertex farther than `bound` (so every path of cost above `bound`, some of cost `bound`) may
     /// be missed: a caller that only wants paths cheaper than `bound` gets the same answer sooner.
-    /// Without `reached` and `bound`, the search runs from both ends (search::run_both_ways(): on
-    /// botijo it cut the repulsion-cost searches' CPU samples by a third; README, Benchmarks).
+    /// The search runs from both ends (search::run_both_ways(): on botijo it cut the repulsion-cost
+    /// searches' CPU samples by a third; README, Benchmarks). When it fails and `reached` is given,
+    /// its forward half runs on to fill `reached`. Only a bounded search that must fill `reached`
+    /// runs one way.
     std::vector<int> sector_path(int x, const std::vector<int>& from_sector, int y,
                                  const std::vector<int>& to_sector, const std::vector<char>& block,
                                  const std::function<double(int)>& cost, double* total,

@@ -173,10 +173,13 @@ struct Front {
         parent.resize(n, -1);
         done.resize(n, 0);
     }
-    void reach(int v, double c, int h) {
+    void note(int v, double c, int h) {  // a distance, not to be settled from
         if (d[v] == std::numeric_limits<double>::infinity()) touched.push_back(v);
         d[v] = c;
         parent[v] = h;
+    }
+    void reach(int v, double c, int h) {
+        note(v, c, h);
         heap_push(heap, {c, v});
     }
     // The nearest vertex not settled yet, or -1.
@@ -201,11 +204,16 @@ struct Front {
 // sides of one vertex, about half as many. Returns the path (a source first, a target last) and its
 // cost in *total, or nothing. The cost is the same sum as run_dijkstra()'s target_cost, grouped
 // from both ends, so it can differ from it in the last bits. Where two paths' costs are that close,
-// either may be returned.
+// either may be returned. Only paths cheaper than `bound` are looked for (nothing if there is none).
+// `settled` (sized to the surface, zeroed; for unbounded searches) is for a search that fails: once
+// the backward front has run out without meeting the forward one, the forward one runs on to its end,
+// and every vertex it settled is marked, the vertices a one-way search from the sources settles when
+// it finds no target.
 template <class Cost>
-std::vector<int> run_both_ways(const Surface& s, const PathSearch& q, const Cost& cost, double* total) {
+std::vector<int> run_both_ways(const Surface& s, const PathSearch& q, const Cost& cost, double* total,
+                               double bound = std::numeric_limits<double>::infinity(),
+                               std::vector<char>* settled = nullptr) {
     const int n = s.num_vertices();
-    const double inf = std::numeric_limits<double>::infinity();
     thread_local Front f, b;
     f.reserve(n);
     b.reserve(n);
@@ -216,14 +224,15 @@ std::vector<int> run_both_ways(const Surface& s, const PathSearch& q, const Cost
         if (c < f.d[v]) f.reach(v, c, -1);
     for (auto [v, c] : q.targets)
         if (c < b.d[v]) b.reach(v, c, -1);
-    double best = inf;
+    double best = bound;
     int meet = -1;
     for (auto [v, c] : q.sources)
         if (f.d[v] + b.d[v] < best) best = f.d[v] + b.d[v], meet = v;
     for (;;) {
         const int fv = f.top(), bv = b.top();
-        if (fv < 0 || bv < 0 || f.d[fv] + b.d[bv] >= best) break;
-        const bool forward = f.d[fv] <= b.d[bv];
+        if (fv < 0) break;
+        if (bv >= 0 ? f.d[fv] + b.d[bv] >= best : meet >= 0 || !settled) break;
+        const bool forward = bv < 0 || f.d[fv] <= b.d[bv];  // bv < 0: the forward front alone, to its end
         Front& me = forward ? f : b;
         const Front& other = forward ? b : f;
         const int v = forward ? fv : bv;
@@ -240,12 +249,25 @@ std::vector<int> run_both_ways(const Surface& s, const PathSearch& q, const Cost
                     me.reach(x, nd, h);
                     if (nd + other.d[x] < best) best = nd + other.d[x], meet = x;
                 }
+            } else if (!forward && !me.done[x] && f.parent[x] < 0 && f.d[x] < bound) {
+                // A blocked source: a path may start there (as run_dijkstra() lets it), but not
+                // pass through it, so the backward front notes it without going on from it.
+                const double nd = d + cost(s.twin(h));
+                if (nd < me.d[x]) {
+                    me.note(x, nd, h);
+                    if (nd + f.d[x] < best) best = nd + f.d[x], meet = x;
+                }
             }
             h = s.rotate(h);
         } while (h != h0);
     }
     std::vector<int> path;
-    if (meet < 0) return path;
+    if (meet < 0) {
+        if (settled)
+            for (int v : f.touched)
+                if (f.done[v]) (*settled)[v] = 1;
+        return path;
+    }
     for (int v = meet; f.parent[v] >= 0;) path.push_back(v = s.from(f.parent[v]));
     std::reverse(path.begin(), path.end());
     path.push_back(meet);
