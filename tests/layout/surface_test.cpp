@@ -267,9 +267,9 @@ TEST(LayoutSurface, SearchFromBothEndsFindsTheOneWayPath) {
         for (int v : paths.back()) EXPECT_FALSE(block[v]) << "trial " << trial;
     }
     EXPECT_GT(found, 20);
-    // Sources inside the wall (a search may start there, as the necks' start on a path they block)
-    // at costs up to about the paths' own: the path leaves them at once, and the cheapest start
-    // need not be the one settled first.
+    // Sources inside the wall (run_dijkstra() lets a path start there) at costs up to about the
+    // paths' own: the path leaves them at once, and the cheapest start need not be the one settled
+    // first.
     std::uniform_real_distribution<double> wall_start(0.0, 3.0);
     std::vector<int> walled;
     for (int v = 0; v < s.num_vertices(); ++v)
