@@ -87,6 +87,7 @@ std::string FitOptions::validate() const {
         return "max_level must be in [0, " + std::to_string(kMaxFitLevel) + "], got " + std::to_string(max_level);
     if (!(tolerance > 0) || !std::isfinite(tolerance)) return "tolerance must be positive and finite";
     if (outer_iterations < 1) return "outer_iterations must be >= 1";
+    if (extra_rounds < 0) return "extra_rounds must be >= 0";
     if (solver_iterations < 1) return "solver_iterations must be >= 1";
     if (!(min_improvement >= 0 && min_improvement < 1)) return "min_improvement must be in [0, 1)";
     if (!finite_nonneg(smoothness_start) || !finite_nonneg(smoothness_end))
@@ -467,7 +468,8 @@ void check_clique(const detail::NormalEquations& normal, int face, const std::ve
 
 /// Runs the rounds of one level from `state` (variables and correspondences on topo.mesh_level
 /// faces); leaves the best variables and their correspondences in `state`.
-LevelReport fit_level(const Context& ctx, const LevelTopology& topo, subdiv::LimitSurface& surface, LevelState& state) {
+LevelReport fit_level(const Context& ctx, const LevelTopology& topo, subdiv::LimitSurface& surface, LevelState& state,
+                      int extra_rounds) {
     const FitOptions& o = ctx.options;
     LevelReport rep;
     rep.level = topo.level;
@@ -561,8 +563,9 @@ LevelReport fit_level(const Context& ctx, const LevelTopology& topo, subdiv::Lim
     // Once the data RMS stalls, one last round with the final (smallest) smoothness weight, so an
     // early stop does not leave the surface biased by a large smoothness term.
     bool final_round = false;
-    for (int round = 0; round < o.outer_iterations; ++round) {
-        const double t = o.outer_iterations > 1 ? double(round) / (o.outer_iterations - 1) : 1.0;
+    const int rounds = o.outer_iterations + extra_rounds;
+    for (int round = 0; round < rounds; ++round) {
+        const double t = o.outer_iterations > 1 ? std::min(1.0, double(round) / (o.outer_iterations - 1)) : 1.0;
         const double lambda = final_round ? o.smoothness_end
                               : o.smoothness_start > 0 && o.smoothness_end > 0
                                   ? o.smoothness_start * std::pow(o.smoothness_end / o.smoothness_start, t)
@@ -873,7 +876,7 @@ LevelReport fit_level(const Context& ctx, const LevelTopology& topo, subdiv::Lim
         }
         if (gain < o.min_improvement) {
             rep.stop_reason = format("converged (data rms improved by %.2g%% < %.2g%%)", 100 * gain, 100 * o.min_improvement);
-            if (lambda <= o.smoothness_end || round + 1 == o.outer_iterations) break;
+            if (lambda <= o.smoothness_end || round + 1 == rounds) break;
             final_round = true;
         }
     }
@@ -1013,7 +1016,10 @@ FitResult fit_from(const Source& src, const FitOptions& options) {
                 update_correspondences(*surface, &st.data, threads);
                 pre.evaluation += seconds_since(clock);
             }
-            LevelReport r = fit_level(ctx, topo, *surface, st);
+            // The extra rounds where this level's fit may be the result: the level asked for, or
+            // any level in the tolerance mode.
+            const bool final_level = options.mode == FitMode::Tolerance || level == last;
+            LevelReport r = fit_level(ctx, topo, *surface, st, final_level ? options.extra_rounds : 0);
             *m = detail::measure(measured, *surface, search_level, ctx.measure_options(), &mt);
             return r;
         };

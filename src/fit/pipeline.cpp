@@ -8,6 +8,9 @@ namespace quadcage::fit {
 std::function<double(const layout::QuadLayout&)> level1_fit_score(FitOptions options) {
     options.mode = FitMode::Level;
     options.level = 1;
+    // A score to compare layouts by, not a fit to keep: the scheduled rounds only, as before
+    // FitOptions::extra_rounds, so the layouts it chooses stay those it chose.
+    options.extra_rounds = 0;
     options.progress = nullptr;
     if (const std::string e = options.validate(); !e.empty()) throw InvalidInput("fit options: " + e);
     return [options](const layout::QuadLayout& layout) {

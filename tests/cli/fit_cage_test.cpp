@@ -220,19 +220,26 @@ TEST(CliFitEmbedding, TheAreaWeightFlagReachesTheEdgeEmbedding) {
     fs::remove_all(dir);
 }
 
-// `fit --rounds N` caps the rounds of every level, with a layout and with --cage; N < 1 is a usage
-// error that writes nothing.
+// `fit --rounds N` caps the rounds of every level, with a layout and with --cage, and `--extra-rounds
+// M` lets the level asked for (only that one) take up to M more; N < 1 is a usage error that writes
+// nothing.
 TEST(CliFit, RoundsCapEveryLevel) {
     const fs::path dir = scratch_dir("quadcage_fit_rounds_");
     for (const std::string& cage :
          std::vector<std::string>{"", " --cage " + shell_quoted(eight_quadriflow())}) {
-        const fs::path out = dir / (cage.empty() ? "layout" : "cage");
-        const CliRun r = quadcage_cli(
-            "fit " + shell_quoted(eight()) + cage + " --level 2 --rounds 3 -q -o " + shell_quoted(out), dir);
-        ASSERT_EQ(r.code, 0) << r.log;
-        const nlohmann::json report = nlohmann::json::parse(slurp(out / "report.json"));
-        ASSERT_EQ(report["levels"].size(), 2u);
-        for (const auto& level : report["levels"]) EXPECT_EQ(level["iterations"], 3) << level.dump();
+        for (int extra : {0, 2}) {
+            const fs::path out = dir / ((cage.empty() ? "layout" : "cage") + std::to_string(extra));
+            const CliRun r = quadcage_cli("fit " + shell_quoted(eight()) + cage + " --level 2 --rounds 3 --extra-rounds " +
+                                              std::to_string(extra) + " -q -o " + shell_quoted(out),
+                                          dir);
+            ASSERT_EQ(r.code, 0) << r.log;
+            const nlohmann::json report = nlohmann::json::parse(slurp(out / "report.json"));
+            ASSERT_EQ(report["levels"].size(), 2u);
+            EXPECT_EQ(report["levels"][0]["iterations"], 3) << report["levels"][0].dump();
+            const int last = report["levels"][1]["iterations"];
+            EXPECT_GE(last, 3) << report["levels"][1].dump();
+            EXPECT_LE(last, 3 + extra) << report["levels"][1].dump();
+        }
     }
     const CliRun zero =
         quadcage_cli("fit " + shell_quoted(eight()) + " --rounds 0 -q -o " + shell_quoted(dir / "zero"), dir);

@@ -44,11 +44,19 @@ struct FitOptions {
     double tolerance = 1e-3;   ///< Tolerance mode: target relative symmetric RMS; both modes: threshold
                                ///< of LevelReport::within_tolerance. > 0.
     int max_level = 5;         ///< Tolerance mode: highest level tried, 0..kMaxFitLevel.
-    int outer_iterations = 16;  ///< Solve / correspondence-update rounds per level, >= 1. At 8 the
-                                ///< data RMS of a real layout's fit still fell 7% a round (botijo,
-                                ///< level 3). 16 took botijo's level-3 fit from 4.46e-4 /
+    int outer_iterations = 16;  ///< Solve / correspondence-update rounds per level, >= 1, over which the
+                                ///< smoothness weight falls from smoothness_start to smoothness_end.
+                                ///< At 8 the data RMS of a real layout's fit still fell 7% a round
+                                ///< (botijo, level 3). 16 took botijo's level-3 fit from 4.46e-4 /
                                 ///< 9.31e-3 to 3.18e-4 / 3.86e-3 (check_fit.py), its fit stage from
-                                ///< 6.4-7.0 s to 10.7-11.7 s; 32 take 10% more off the RMS.
+                                ///< 6.4-7.0 s to 10.7-11.7 s.
+    int extra_rounds = 32;  ///< Rounds past outer_iterations at the final smoothness weight, at most,
+                            ///< while each improves the data RMS by min_improvement or more; only at
+                            ///< the level asked for (FitMode::Level) or at every level
+                            ///< (FitMode::Tolerance), >= 0. At 16 rounds the fit had not converged:
+                            ///< botijo decimated to 10k vertices fitted at level 3 to 5.29e-4 /
+                            ///< 1.17e-2 (its surface slides slowly into a small knob), 3.07e-4 /
+                            ///< 7.4e-3 with these (48 rounds); botijo 2.69e-4 -> 2.40e-4 (39).
     FitSolver solver = FitSolver::Direct;  ///< How each round is solved.
     int solver_iterations = 1;  ///< FitSolver::Ceres: Levenberg-Marquardt steps per solve, >= 1. With the feet fixed
                                 ///< the residuals are linear in the control points (up to the Huber
@@ -303,7 +311,8 @@ struct CageFit {
 
 /// A layout::QuadLayoutOptions::score that ranks candidate layouts by how their cages fit: the
 /// relative symmetric RMS of fit_surface() at level 1 with `options` (its level, mode and progress
-/// replaced). On 14 meshes, 23 of the 24 pairs of S-cycle constructions whose scores differed by
+/// replaced, and no extra rounds).
+/// On 14 meshes, 23 of the 24 pairs of S-cycle constructions whose scores differed by
 /// more than 10% (QuadLayoutOptions::score_margin) ranked as their level-3 fits did (the README's
 /// "The S-cycles chosen by a level-1 fit"). Costs 0.2-3 s a layout on the shared meshes.
 /// Deterministic.
