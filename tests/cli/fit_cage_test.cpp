@@ -225,21 +225,24 @@ TEST(CliFitEmbedding, TheAreaWeightFlagReachesTheEdgeEmbedding) {
 // nothing.
 TEST(CliFit, RoundsCapEveryLevel) {
     const fs::path dir = scratch_dir("quadcage_fit_rounds_");
-    for (const std::string& cage :
-         std::vector<std::string>{"", " --cage " + shell_quoted(eight_quadriflow())}) {
-        for (int extra : {0, 2}) {
-            const fs::path out = dir / ((cage.empty() ? "layout" : "cage") + std::to_string(extra));
-            const CliRun r = quadcage_cli("fit " + shell_quoted(eight()) + cage + " --level 2 --rounds 3 --extra-rounds " +
-                                              std::to_string(extra) + " -q -o " + shell_quoted(out),
-                                          dir);
-            ASSERT_EQ(r.code, 0) << r.log;
-            const nlohmann::json report = nlohmann::json::parse(slurp(out / "report.json"));
-            ASSERT_EQ(report["levels"].size(), 2u);
-            EXPECT_EQ(report["levels"][0]["iterations"], 3) << report["levels"][0].dump();
-            const int last = report["levels"][1]["iterations"];
-            EXPECT_GE(last, 3) << report["levels"][1].dump();
-            EXPECT_LE(last, 3 + extra) << report["levels"][1].dump();
-        }
+    // Without extra rounds with the layout, with two with the cage.
+    for (const auto& [cage, extra] :
+         std::vector<std::pair<std::string, int>>{{"", 0}, {" --cage " + shell_quoted(eight_quadriflow()), 2}}) {
+        const fs::path out = dir / (cage.empty() ? "layout" : "cage");
+        const CliRun r = quadcage_cli("fit " + shell_quoted(eight()) + cage + " --level 2 --rounds 3 --extra-rounds " +
+                                          std::to_string(extra) + " -q -o " + shell_quoted(out),
+                                      dir);
+        ASSERT_EQ(r.code, 0) << r.log;
+        const nlohmann::json report = nlohmann::json::parse(slurp(out / "report.json"));
+        ASSERT_EQ(report["levels"].size(), 2u);
+        EXPECT_EQ(report["levels"][0]["iterations"], 3) << report["levels"][0].dump();
+        std::cout << "  " << (cage.empty() ? "layout" : "cage") << ", " << extra
+                  << " extra rounds: level 2 took " << report["levels"][1]["iterations"] << "\n";
+        const int last = report["levels"][1]["iterations"];
+        // Eight's quick fit still gains more than 0.2% a round after 3 (5 taken of 5 when written).
+        if (extra == 0) EXPECT_EQ(last, 3) << report["levels"][1].dump();
+        else EXPECT_GT(last, 3) << report["levels"][1].dump();
+        EXPECT_LE(last, 3 + extra) << report["levels"][1].dump();
     }
     const CliRun zero =
         quadcage_cli("fit " + shell_quoted(eight()) + " --rounds 0 -q -o " + shell_quoted(dir / "zero"), dir);

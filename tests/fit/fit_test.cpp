@@ -464,7 +464,8 @@ TEST(FitSurface, OffsetsAtEdgesKeepTheSurfaceFromBulgingPastCreases) {
 // isometric, close to where more rounds end. The smoothness schedule takes 16
 // (FitOptions::outer_iterations); at the level asked for, the rounds then go on at the final weight
 // while each still gains (FitOptions::extra_rounds). Measured on fertility at level 3, relative RMS
-// (our report): 1.88e-4 without the extra rounds, 1.72e-4 with them (36 rounds in all). On botijo
+// (our report): 1.88e-4 without the extra rounds, 1.72e-4 with them (36 rounds in all); with this
+// test's fewer data points 2.10e-4 and 1.95e-4 (35 rounds), and all 32 extra rounds 1.93e-4. On botijo
 // decimated to 10k vertices, where the surface must slide into a small knob inside one big patch,
 // 5.29e-4 / Hausdorff 1.17e-2 without them and 3.07e-4 / 7.4e-3 with them (README, "Rounds that go
 // on while they gain").
@@ -479,12 +480,8 @@ TEST(FitSurface, TheRoundsGoOnWhileTheyGainAtTheLevelAskedFor) {
     FitOptions none = o;
     none.extra_rounds = 0;
     const LevelReport without = fit_surface(layout, none).levels.back();
-    FitOptions all = o;
-    all.min_improvement = 0;  // every extra round, gain or not
-    const LevelReport longer = fit_surface(layout, all).levels.back();
     const LevelReport& last = standard.levels.back();
-    std::cout << "  default: " << describe(last) << "\n  without the extra rounds: " << describe(without)
-              << "\n  every extra round: " << describe(longer) << "\n";
+    std::cout << "  default: " << describe(last) << "\n  without the extra rounds: " << describe(without) << "\n";
     ASSERT_EQ(last.level, 3);
     for (size_t k = 0; k + 1 < standard.levels.size(); ++k)
         EXPECT_LE(standard.levels[k].iterations, o.outer_iterations) << describe(standard.levels[k]);
@@ -492,7 +489,6 @@ TEST(FitSurface, TheRoundsGoOnWhileTheyGainAtTheLevelAskedFor) {
     EXPECT_LE(last.iterations, o.outer_iterations + o.extra_rounds);
     EXPECT_LE(without.iterations, o.outer_iterations);
     EXPECT_LE(last.relative.rms, 0.97 * without.relative.rms);
-    EXPECT_LE(last.relative.rms, 1.05 * longer.relative.rms);
     // Issue 20's fit targets at level 3.
     EXPECT_LE(last.relative.rms, 1e-3);
     EXPECT_LE(last.relative.hausdorff, 1e-2);
