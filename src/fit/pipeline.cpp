@@ -11,6 +11,9 @@ std::function<double(const layout::QuadLayout&)> level1_fit_score(FitOptions opt
     // A score to compare layouts by, not a fit to keep: the scheduled rounds only, as before
     // FitOptions::extra_rounds, so the layouts it chooses stay those it chose.
     options.extra_rounds = 0;
+    // ... and the tangential weight it was measured with (FitOptions::tangential_weight was 0.02
+    // then): the scores, and so the S-cycles they choose, stay as they were.
+    options.tangential_weight = kScoreTangentialWeight;
     options.progress = nullptr;
     if (const std::string e = options.validate(); !e.empty()) throw InvalidInput("fit options: " + e);
     return [options](const layout::QuadLayout& layout) {

@@ -251,6 +251,27 @@ TEST(CliFit, RoundsCapEveryLevel) {
     fs::remove_all(dir);
 }
 
+TEST(CliFit, TangentialWeightReachesTheFit) {
+    const fs::path dir = scratch_dir("quadcage_fit_tangential_");
+    double rms[2] = {0, 0};
+    for (int k = 0; k < 2; ++k) {
+        const fs::path out = dir / std::to_string(k);
+        const CliRun r = quadcage_cli("fit " + shell_quoted(eight()) + " --level 1 --rounds 8 --extra-rounds 0" +
+                                          (k ? " --tangential-weight 1" : "") + " -q -o " + shell_quoted(out),
+                                      dir);
+        ASSERT_EQ(r.code, 0) << r.log;
+        rms[k] = nlohmann::json::parse(slurp(out / "report.json"))["levels"][0]["relative"]["rms"];
+    }
+    std::cout << "  level-1 relative rms: default " << rms[0] << ", --tangential-weight 1 " << rms[1] << "\n";
+    EXPECT_NE(rms[0], rms[1]);  // point to point in every round is another fit
+    const CliRun bad = quadcage_cli(
+        "fit " + shell_quoted(eight()) + " --tangential-weight 1.5 -q -o " + shell_quoted(dir / "bad"), dir);
+    EXPECT_EQ(bad.code, 2) << bad.log;
+    EXPECT_NE(bad.log.find("tangential-weight"), std::string::npos) << bad.log;
+    EXPECT_FALSE(fs::exists(dir / "bad"));
+    fs::remove_all(dir);
+}
+
 TEST(CliFitCage, NanInTheCageExitsThree) {
     const fs::path dir = scratch_dir("quadcage_fit_cage_nan_");
     PolygonMesh qf = read_polygon_mesh(eight_quadriflow().string());

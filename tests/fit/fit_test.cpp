@@ -494,5 +494,26 @@ TEST(FitSurface, TheRoundsGoOnWhileTheyGainAtTheLevelAskedFor) {
     EXPECT_LE(last.relative.hausdorff, 1e-2);
 }
 
+// At the closest feet the tangential part of a data residual is zero, so its weight decides how
+// fast the rounds let the surface slide along itself, not where they would end: with the default
+// the rounds gain longer before they stall, and end closer than with the weight it replaced.
+TEST(FitSurface, ASmallTangentialWeightSlidesTheSurfaceFurther) {
+    if (!test::have_shared_meshes()) GTEST_SKIP() << "shared meshes not found";
+    const layout::QuadLayout layout = layout::build_quad_layout(test::load_shared("eight.off"));
+    FitOptions o = fast_options();
+    o.measure_unfitted = false;
+    o.mode = FitMode::Level;
+    o.level = 3;
+    const LevelReport now = fit_surface(layout, o).levels.back();
+    FitOptions before = o;
+    before.tangential_weight = 0.02;
+    const LevelReport then = fit_surface(layout, before).levels.back();
+    std::cout << "  tangential weight " << o.tangential_weight << ": " << describe(now) << "\n  0.02: " << describe(then)
+              << "\n";
+    EXPECT_LT(o.tangential_weight, before.tangential_weight);
+    EXPECT_LE(now.relative.rms, 0.98 * then.relative.rms);
+    EXPECT_LE(now.relative.hausdorff, then.relative.hausdorff);
+}
+
 }  // namespace
 }  // namespace quadcage::fit

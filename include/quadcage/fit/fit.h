@@ -66,12 +66,17 @@ struct FitOptions {
     double smoothness_start = 1e-3;  ///< Weight of the control-net Laplacian term relative to the data
                                      ///< term in the first round, >= 0 ...
     double smoothness_end = 1e-6;    ///< ... decreasing geometrically to this in the last round, >= 0.
-    double tangential_weight = 0.02;  ///< Final weight (squared) of the tangential part of each data
-                                      ///< residual, in [0, 1]: the part along the surface normal at the
-                                      ///< foot counts fully, so the surface slides along itself
-                                      ///< instead of being dragged to fixed feet (squared-distance
-                                      ///< minimisation). Round r of every level uses max(this, 2^-r):
-                                      ///< point-to-point first.
+    double tangential_weight = 0.002;  ///< Final weight (squared) of the tangential part of each data
+                                       ///< residual, in [0, 1]: the part along the surface normal at the
+                                       ///< foot counts fully, so the surface slides along itself
+                                       ///< instead of being dragged to fixed feet (squared-distance
+                                       ///< minimisation). Round r of every level uses max(this, 2^-r):
+                                       ///< point-to-point first. At the closest feet the tangential
+                                       ///< part is zero, so this sets how fast the rounds slide the
+                                       ///< surface, not where they end: at 0.02 (before) botijo's
+                                       ///< level 3 fitted to 2.41e-4 in 40 rounds, at 0.002 to
+                                       ///< 2.29e-4 (check_fit.py). At 0 the surface folds where no
+                                       ///< input point holds it (input_wheel: 8.4e-4 -> 2.1e-3).
     double surface_to_input_weight = 1.0;  ///< Weight of the surface-to-input (point-to-plane) term
                                             ///< relative to the input-to-surface term, >= 0.
     /// How a surface sample's distance to the input is linearised where its closest input point
@@ -311,11 +316,13 @@ struct CageFit {
 
 /// A layout::QuadLayoutOptions::score that ranks candidate layouts by how their cages fit: the
 /// relative symmetric RMS of fit_surface() at level 1 with `options` (its level, mode and progress
-/// replaced, and no extra rounds).
+/// replaced, no extra rounds, and the tangential weight kScoreTangentialWeight).
 /// On 14 meshes, 23 of the 24 pairs of S-cycle constructions whose scores differed by
 /// more than 10% (QuadLayoutOptions::score_margin) ranked as their level-3 fits did (the README's
 /// "The S-cycles chosen by a level-1 fit"). Costs 0.2-3 s a layout on the shared meshes.
 /// Deterministic.
+/// The tangential weight level1_fit_score() fits with, whatever `options` says.
+constexpr double kScoreTangentialWeight = 0.02;
 std::function<double(const layout::QuadLayout&)> level1_fit_score(FitOptions options = {});
 
 /// Mesh in, layout + fitted cage + report out: build_quad_layout() then fit_surface(). Where
