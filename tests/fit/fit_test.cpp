@@ -33,6 +33,15 @@ FitOptions fast_options() {
     return o;
 }
 
+// fast_options() at level 3, without the unfitted measurement.
+FitOptions level3_options() {
+    FitOptions o = fast_options();
+    o.measure_unfitted = false;
+    o.mode = FitMode::Level;
+    o.level = 3;
+    return o;
+}
+
 FitResult fit_level(const layout::QuadLayout& layout, int level) {
     FitOptions o = fast_options();
     o.mode = FitMode::Level;
@@ -444,20 +453,34 @@ TEST(FitOutputs, QuadObjAndReportWithoutTessellation) {
 // A plate with square holes has sharp convex edges all round. The closest input points of the
 // surface samples near them lie on those edges: measured along the normal of the triangle found,
 // the surface could bulge past an edge unseen. Measured along the offset from the edge, it fits the
-// plate closer at its largest distance (level 2: 2.4e-2 -> 1.5e-2 when measured in development).
+// plate closer at its largest distance (level 2, with the tangential weight 0.02: 2.4e-2 -> 1.5e-2
+// when measured in development, 1.86e-2 -> 1.28e-2 on dab065b). The default weight, 0.002, lets the
+// rounds slide the surface further and bulge less either way (1.42e-2 -> 1.23e-2 on dab065b): the
+// offsets still fit closer there, though by less than a fifth, and no worse than at 0.02.
 TEST(FitSurface, OffsetsAtEdgesKeepTheSurfaceFromBulgingPastCreases) {
     shapes::PlateOptions plate;
     plate.resolution = 4;
     const layout::QuadLayout layout = layout::build_quad_layout(shapes::plate_with_holes(2, plate));
-    FitOptions o;  // the default data points: with fast_options()' fewer, 2.1e-2 -> 1.8e-2
-    o.mode = FitMode::Level;
-    o.level = 2;
-    const LevelReport edges = fit_surface(layout, o).levels.back();
-    o.surface_feature_feet = false;
-    const LevelReport planes = fit_surface(layout, o).levels.back();
-    std::cout << "  offsets at edges: " << describe(edges) << "\n  planes only: " << describe(planes) << "\n";
-    EXPECT_LT(edges.relative.hausdorff, 0.8 * planes.relative.hausdorff);
-    EXPECT_LT(edges.relative.rms, 1.02 * planes.relative.rms);
+    LevelReport at_002_edges;
+    for (const double weight : {0.02, FitOptions{}.tangential_weight}) {
+        FitOptions o;  // the default data points: with fast_options()' fewer, 2.1e-2 -> 1.8e-2
+        o.mode = FitMode::Level;
+        o.level = 2;
+        o.tangential_weight = weight;
+        const LevelReport edges = fit_surface(layout, o).levels.back();
+        o.surface_feature_feet = false;
+        const LevelReport planes = fit_surface(layout, o).levels.back();
+        std::cout << "  tangential weight " << weight << ", offsets at edges: " << describe(edges)
+                  << "\n  planes only: " << describe(planes) << "\n";
+        EXPECT_LT(edges.relative.rms, 1.02 * planes.relative.rms) << weight;
+        if (weight == 0.02) {
+            EXPECT_LT(edges.relative.hausdorff, 0.8 * planes.relative.hausdorff);
+            at_002_edges = edges;
+        } else {
+            EXPECT_LT(edges.relative.hausdorff, planes.relative.hausdorff);
+            EXPECT_LE(edges.relative.hausdorff, at_002_edges.relative.hausdorff);
+        }
+    }
 }
 
 // The rounds a level takes by default bring the fit of a real layout, whose patch maps are far from
@@ -472,10 +495,7 @@ TEST(FitSurface, OffsetsAtEdgesKeepTheSurfaceFromBulgingPastCreases) {
 TEST(FitSurface, TheRoundsGoOnWhileTheyGainAtTheLevelAskedFor) {
     if (!test::have_shared_meshes()) GTEST_SKIP() << "shared meshes not found";
     const layout::QuadLayout layout = layout::build_quad_layout(test::load_shared("fertility.off"));
-    FitOptions o = fast_options();
-    o.measure_unfitted = false;
-    o.mode = FitMode::Level;
-    o.level = 3;
+    const FitOptions o = level3_options();
     const FitResult standard = fit_surface(layout, o);
     FitOptions none = o;
     none.extra_rounds = 0;
@@ -500,10 +520,7 @@ TEST(FitSurface, TheRoundsGoOnWhileTheyGainAtTheLevelAskedFor) {
 TEST(FitSurface, ASmallTangentialWeightSlidesTheSurfaceFurther) {
     if (!test::have_shared_meshes()) GTEST_SKIP() << "shared meshes not found";
     const layout::QuadLayout layout = layout::build_quad_layout(test::load_shared("eight.off"));
-    FitOptions o = fast_options();
-    o.measure_unfitted = false;
-    o.mode = FitMode::Level;
-    o.level = 3;
+    const FitOptions o = level3_options();
     const LevelReport now = fit_surface(layout, o).levels.back();
     FitOptions before = o;
     before.tangential_weight = 0.02;

@@ -314,6 +314,10 @@ struct CageFit {
     double fit_seconds = 0;     ///< Wall-clock seconds of fit_surface().
 };
 
+/// The tangential weight level1_fit_score() fits with, whatever its options say: the default's
+/// before it became 0.002, with which the score's choices were measured.
+constexpr double kScoreTangentialWeight = 0.02;
+
 /// A layout::QuadLayoutOptions::score that ranks candidate layouts by how their cages fit: the
 /// relative symmetric RMS of fit_surface() at level 1 with `options` (its level, mode and progress
 /// replaced, no extra rounds, and the tangential weight kScoreTangentialWeight).
@@ -321,8 +325,6 @@ struct CageFit {
 /// more than 10% (QuadLayoutOptions::score_margin) ranked as their level-3 fits did (the README's
 /// "The S-cycles chosen by a level-1 fit"). Costs 0.2-3 s a layout on the shared meshes.
 /// Deterministic.
-/// The tangential weight level1_fit_score() fits with, whatever `options` says.
-constexpr double kScoreTangentialWeight = 0.02;
 std::function<double(const layout::QuadLayout&)> level1_fit_score(FitOptions options = {});
 
 /// Mesh in, layout + fitted cage + report out: build_quad_layout() then fit_surface(). Where
