@@ -31,8 +31,10 @@ std::vector<CLI::Option*> add_embedding_flags(CLI::App* cmd, quadcage::cli::Embe
         cmd->add_flag("--embedding-extract", flags.extract,
                       "With --embedding-iterations: use the optimised map's iso-lines as the layout when\n"
                       "that layout verifies and has a smaller patch area max/min. The corner angles are not\n"
-                      "compared: they get worse (botijo 27 -> 60 deg mean deviation), while the level-3 fit\n"
-                      "gets better (botijo: check_fit.py RMS 7.8e-4 -> 3.8e-4, Hausdorff 1.6e-2 -> 6.5e-3)"));
+                      "compared: they get worse. On botijo the extracted layout is no better balanced (12.7\n"
+                      "against 12.4; 54 deg mean corner angle deviation against 23) and is not kept; with\n"
+                      "--embedding-area-weight 100 it is (2.48, 71 deg), and the level-3 fit is worse than the\n"
+                      "default layout's (check_fit.py RMS 2.9e-4 against 2.4e-4; README: Balance, angles and fit)"));
     all.push_back(
         cmd->add_option("--embedding-area-weight", flags.area_weight,
                         "Weight of the embedding's area term over symmetric Dirichlet (default 0): higher\n"
@@ -88,7 +90,7 @@ std::vector<CLI::Option*> add_embedding_flags(CLI::App* cmd, quadcage::cli::Embe
                "edge's first and last tenth held, whose iso-lines become the layout edges when they\n"
                "spread the area more evenly over the patches and stay within the refinement bound.\n"
                "Stops after a step that lowers its energy by less than 0.2%. Costs a factorisation a\n"
-               "step: at botijo's 39k vertices on 2 cores, 0.2-0.3 s of a 0.4 s step (13 steps, 6-7 s)")
+               "step: at botijo's 39k vertices on 2 cores, 7 steps in 2.5-3.6 s when the machine is idle")
             ->check(CLI::NonNegativeNumber));
     all.push_back(
         cmd->add_option("--edge-embedding-max-vertices", flags.edge_embedding_max_vertices,
