@@ -71,9 +71,9 @@ std::vector<CLI::Option*> add_embedding_flags(CLI::App* cmd, quadcage::cli::Embe
                [&flags](const std::string& how) { flags.choose_by_shape = how == "shape"; },
                "How the layout's S-cycles are chosen among those built (genus >= 2: the handle loops',\n"
                "Algorithm 1's, the necks'): fit (the default) keeps the one whose cage fits the mesh\n"
-               "best at level 1 (relative RMS; a level-1 fit of each, 0.2-3 s on the shared meshes);\n"
-               "shape keeps a later one only when both its patch area max/min and corner angle\n"
-               "deviation are smaller")
+               "best at level 1 (relative RMS; a level-1 fit of each, 0.5-1.5 s on botijo, boot and\n"
+               "input_wheel); shape keeps a later one only when both its patch area max/min and corner\n"
+               "angle deviation are smaller")
             ->check(CLI::IsMember({"fit", "shape"})));
     all.push_back(cmd->add_flag(
         "--staircase-edges", flags.staircase_edges,

@@ -14,6 +14,9 @@ std::function<double(const layout::QuadLayout&)> level1_fit_score(FitOptions opt
     // ... and the tangential weight it was measured with (FitOptions::tangential_weight was 0.02
     // then): the scores, and so the S-cycles they choose, stay as they were.
     options.tangential_weight = kScoreTangentialWeight;
+    // ... and fewer points: a ranking needs less than a fit to keep (kScorePointsPerFace).
+    options.data_points_per_face = options.surface_samples_per_face = kScorePointsPerFace;
+    options.error_samples = kScoreErrorSamples;
     options.progress = nullptr;
     if (const std::string e = options.validate(); !e.empty()) throw InvalidInput("fit options: " + e);
     return [options](const layout::QuadLayout& layout) {

@@ -198,8 +198,9 @@ TEST(FitSurface, DeterministicAndIndependentOfTheThreadCount) {
 }
 
 // level1_fit_score() (the layout's S-cycle choice in fit_cage() and the CLI): the relative RMS of
-// the level-1 fit with the given options, whatever their level, mode and progress; bad options
-// are refused when the score is made, not when a layout is scored.
+// the level-1 fit with the given options, whatever their level, mode and progress, with the
+// score's own rounds, tangential weight and points; bad options are refused when the score is
+// made, not when a layout is scored.
 TEST(FitSurface, LevelOneFitScoreIsTheLevelOneRms) {
     const layout::QuadLayout layout = test::cube_sphere_layout(8);
     FitOptions o = fast_options();
@@ -212,6 +213,10 @@ TEST(FitSurface, LevelOneFitScoreIsTheLevelOneRms) {
     EXPECT_EQ(said, 0);
     FitOptions one = fast_options();
     one.level = 1;
+    one.extra_rounds = 0;
+    one.tangential_weight = kScoreTangentialWeight;
+    one.data_points_per_face = one.surface_samples_per_face = kScorePointsPerFace;
+    one.error_samples = kScoreErrorSamples;
     const FitResult r = fit_surface(layout, one);
     ASSERT_EQ(r.levels.back().level, 1);
     EXPECT_EQ(s, r.levels.back().relative.rms);

@@ -318,12 +318,22 @@ struct CageFit {
 /// before it became 0.002, with which the score's choices were measured.
 constexpr double kScoreTangentialWeight = 0.02;
 
+/// The data points and limit-surface samples per limit face (FitOptions::data_points_per_face and
+/// surface_samples_per_face, 64 by default) level1_fit_score() fits with, and the area samples a
+/// side (FitOptions::error_samples, 100,000 by default) it measures its RMS with, whatever its
+/// options say. With 64 and 100,000 the scores were nearly a third of botijo's layout (3.7 s); with
+/// these they are 2.0 s, and the choices, and so the layouts, stayed the same on the 16 meshes of
+/// the README's "The S-cycle scores at 16 points a face".
+constexpr int kScorePointsPerFace = 16;
+constexpr int kScoreErrorSamples = 20000;
+
 /// A layout::QuadLayoutOptions::score that ranks candidate layouts by how their cages fit: the
 /// relative symmetric RMS of fit_surface() at level 1 with `options` (its level, mode and progress
-/// replaced, no extra rounds, and the tangential weight kScoreTangentialWeight).
+/// replaced, no extra rounds, the tangential weight kScoreTangentialWeight, kScorePointsPerFace
+/// points and samples a face and kScoreErrorSamples error samples).
 /// On 14 meshes, 23 of the 24 pairs of S-cycle constructions whose scores differed by
 /// more than 10% (QuadLayoutOptions::score_margin) ranked as their level-3 fits did (the README's
-/// "The S-cycles chosen by a level-1 fit"). Costs 0.2-3 s a layout on the shared meshes.
+/// "The S-cycles chosen by a level-1 fit"). Costs 0.5-1.5 s a layout on botijo, boot and input_wheel.
 /// Deterministic.
 std::function<double(const layout::QuadLayout&)> level1_fit_score(FitOptions options = {});
 
