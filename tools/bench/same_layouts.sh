@@ -43,13 +43,14 @@ fi
 same=0
 for m in "${meshes[@]}"; do
   name=$(basename "${m%.*}")
-  for side in a b; do
-    q=$a
-    [ $side = b ] && q=$b
+  builds=("$a" "$b")
+  sides=(a b)
+  seconds=()
+  for i in 0 1; do
     start=$(date +%s.%N)
-    "$q" layout "$m" -o "$work/$side" >/dev/null 2>"$work/$side.log"
+    "${builds[$i]}" layout "$m" -o "$work/${sides[$i]}" >/dev/null 2>"$work/${sides[$i]}.log"
     end=$(date +%s.%N)
-    seconds[$([ $side = a ] && echo 0 || echo 1)]=$(python3 -c "print('%.2f' % ($end - $start))")
+    seconds[$i]=$(python3 -c "print('%.2f' % ($end - $start))")
   done
   verdict=same
   for f in layout.ply cycles.json cage.json cage.obj cage_level1.obj; do
