@@ -40,11 +40,11 @@ plate_g8 plate -g 8
 plate_g12 plate -g 12
 LIST
 fi
+builds=("$a" "$b")
+sides=(a b)
 same=0
 for m in "${meshes[@]}"; do
   name=$(basename "${m%.*}")
-  builds=("$a" "$b")
-  sides=(a b)
   seconds=()
   for i in 0 1; do
     start=$(date +%s.%N)
