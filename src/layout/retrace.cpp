@@ -216,145 +216,48 @@ std::vector<int> shared(const std::vector<int>& a, const std::vector<int>& b) {
     return r;
 }
 
+// Input triangles' frames, made as needed.
+class Frames {
+public:
+    explicit Frames(const Mesh& m) : m_(m), frames_(m.triangles.size()), made_(m.triangles.size(), 0) {}
+    const Frame& operator()(int f) {
+        if (!made_[f]) frames_[f] = frame_of(m_, f), made_[f] = 1;
+        return frames_[f];
+    }
+
+private:
+    const Mesh& m_;
+    std::vector<Frame> frames_;
+    std::vector<char> made_;
+};
+
 }  // namespace
 
-std::string retrace_on_input(const Mesh& input, const QuadLayout& L, QuadLayout* out) {
-    const int nin = L.input_vertices;
-    if (nin != input.num_vertices()) return "the layout is not of this input";
-    int n = L.mesh.num_vertices();
-    const int nf = static_cast<int>(input.triangles.size());
-    for (const Triangle& t : input.triangles)
-        if (!(norm(cross(input.points[t[1]] - input.points[t[0]], input.points[t[2]] - input.points[t[0]])) >
-              0))
-            return "the input has a triangle of zero area";
-
-    // Where each layout vertex lies on the input.
-    std::vector<std::vector<int>> vertex_faces(nin);
-    std::unordered_map<Key, std::vector<int>> edge_faces;
-    for (int f = 0; f < nf; ++f)
+InputAdjacency::InputAdjacency(const Mesh& input) : vertex_faces(input.points.size()) {
+    for (int f = 0; f < input.num_triangles(); ++f)
         for (int k = 0; k < 3; ++k) {
             vertex_faces[input.triangles[f][k]].push_back(f);
             edge_faces[edge_key(input.triangles[f][k], input.triangles[f][(k + 1) % 3])].push_back(f);
         }
-    const TriangleGrid grid(input);
-    const double tolerance = 1e-8 * grid.diag();
-    // Where each layout vertex lies on the input: the input triangles it is in (one inside a
-    // triangle, two on an edge, all round an input vertex).
-    std::vector<std::vector<int>> place(n);
-    std::vector<Vec3> points = L.mesh.points;
-    for (int v = 0; v < n; ++v) {
-        if (v < nin) {
-            place[v] = vertex_faces[v];
-            continue;
-        }
-        std::array<double, 3> w{};
-        const int f = grid.locate(points[v], tolerance, &w);
-        if (f < 0) return "layout vertex " + std::to_string(v) + " lies on no input triangle";
-        const Triangle& t = input.triangles[f];
-        int zeros = 0, zero = -1;
-        for (int k = 0; k < 3; ++k)
-            if (w[k] <= kOnEdge) ++zeros, zero = k;
-        if (zeros >= 2) return "layout vertex " + std::to_string(v) + " lies on an input vertex";
-        if (zeros == 1) {
-            const int a = t[(zero + 1) % 3], b = t[(zero + 2) % 3];
-            place[v] = edge_faces[edge_key(a, b)];
-            // Exactly on the edge, as the split that made it meant.
-            const double s = w[(zero + 2) % 3] / (w[(zero + 1) % 3] + w[(zero + 2) % 3]);
-            points[v] = input.points[a] + (input.points[b] - input.points[a]) * s;
-        } else {
-            place[v] = {f};
-        }
-    }
+}
 
-    std::vector<Frame> frames(nf);  // made as needed
-    std::vector<char> framed(nf, 0);
-    auto frame = [&](int f) -> const Frame& {
-        if (!framed[f]) frames[f] = frame_of(input, f), framed[f] = 1;
-        return frames[f];
-    };
+const std::vector<int>& InputAdjacency::edge(int a, int b) const {
+    static const std::vector<int> none;
+    const auto it = edge_faces.find(edge_key(a, b));
+    return it == edge_faces.end() ? none : it->second;
+}
 
-    // The curves. Where the refinement was undone inside a plane, a mesh edge can cross input
-    // edges between coplanar triangles: the points where it does are added to the curves through it.
-    std::vector<std::vector<int>> paths = L.edge_paths, system = L.orthogonal_system, s_cycles = L.s_cycles;
-    std::unordered_map<Key, std::vector<int>> crossings;  // by mesh edge, from its lower vertex
-    auto neighbour = [&](int f, int a, int b) {
-        for (int g : edge_faces[edge_key(a, b)])
-            if (g != f) return g;
-        return -1;
-    };
-    std::string crossing_problem;
-    auto cross_between = [&](int a, int b) -> const std::vector<int>& {
-        const Key key = edge_key(a, b);
-        if (auto it = crossings.find(key); it != crossings.end()) return it->second;
-        std::vector<int>& made = crossings[key];
-        const int lo = std::min(a, b), hi = std::max(a, b);
-        const Vec3 p = points[lo], q = points[hi];
-        // The triangle of lo's that the edge leaves it into.
-        int f = -1;
-        double best = -std::numeric_limits<double>::infinity();
-        for (int g : place[lo]) {
-            const Frame& fr = frame(g);
-            const Triangle& t = input.triangles[g];
-            const P2 x = fr.at(p + (q - p) * 1e-6);
-            const double in = std::min({orient(fr.at(input.points[t[0]]), fr.at(input.points[t[1]]), x),
-                                        orient(fr.at(input.points[t[1]]), fr.at(input.points[t[2]]), x),
-                                        orient(fr.at(input.points[t[2]]), fr.at(input.points[t[0]]), x)});
-            if (in > best) best = in, f = g;
-        }
-        double at = 0;
-        for (int step = 0; f >= 0 && step < 10000; ++step) {
-            if (std::find(place[hi].begin(), place[hi].end(), f) != place[hi].end()) return made;
-            const Frame& fr = frame(f);
-            const Triangle& t = input.triangles[f];
-            const P2 P = fr.at(p), Q = fr.at(q);
-            double first = std::numeric_limits<double>::infinity(), u_first = 0;
-            int k_first = -1;
-            for (int k = 0; k < 3; ++k) {
-                const P2 A = fr.at(input.points[t[k]]), B = fr.at(input.points[t[(k + 1) % 3]]);
-                const double den = cross2(Q - P, B - A);
-                if (den == 0) continue;
-                const double s = cross2(A - P, B - A) / den, u = cross2(A - P, Q - P) / den;
-                if (s > at + 1e-12 && s < first && u >= -1e-9 && u <= 1 + 1e-9)
-                    first = s, u_first = u, k_first = k;
-            }
-            if (k_first < 0 || first >= 1) break;
-            if (u_first <= 1e-9 || u_first >= 1 - 1e-9) {
-                crossing_problem = "a mesh edge passes through an input vertex";
-                return made;
-            }
-            const int ea = t[k_first], eb = t[(k_first + 1) % 3];
-            const int v = static_cast<int>(points.size());
-            points.push_back(input.points[ea] + (input.points[eb] - input.points[ea]) * u_first);
-            place.push_back(edge_faces[edge_key(ea, eb)]);
-            made.push_back(v);
-            at = first;
-            f = neighbour(f, ea, eb);
-        }
-        crossing_problem = "a mesh edge could not be followed across the input's triangles";
-        return made;
-    };
-    auto expand = [&](std::vector<int>& curve, bool closed) {
-        std::vector<int> out;
-        const size_t m = curve.size();
-        for (size_t i = 0; i < m; ++i) {
-            out.push_back(curve[i]);
-            if (i + 1 == m && !closed) break;
-            const int a = curve[i], b = curve[(i + 1) % m];
-            if (!shared(place[a], place[b]).empty()) continue;
-            const std::vector<int> between = cross_between(a, b);
-            if (a < b)
-                out.insert(out.end(), between.begin(), between.end());
-            else
-                out.insert(out.end(), between.rbegin(), between.rend());
-        }
-        curve = std::move(out);
-    };
-    for (auto& c : paths) expand(c, false);
-    for (auto& c : system) expand(c, true);
-    for (auto& c : s_cycles) expand(c, true);
-    if (!crossing_problem.empty()) return crossing_problem;
-    const int n_old = n;
-    n = static_cast<int>(points.size());
+std::string cut_input_along(const Mesh& input, const InputAdjacency& adjacency, const CurvesOnInput& c_in,
+                            const std::vector<Vec3>& written, const PatchAt& patch_at, const QuadLayout& like,
+                            QuadLayout* out) {
+    const int nin = input.num_vertices();
+    const int n = static_cast<int>(c_in.points.size());
+    const int nf = input.num_triangles();
+    const std::vector<Vec3>& points = c_in.points;
+    const std::vector<std::vector<int>>& place = c_in.place;
+    std::vector<std::vector<int>> paths = c_in.edge_paths, system = c_in.orthogonal_system,
+                                  s_cycles = c_in.s_cycles;
+    Frames frame(input);
 
     // The graph of the mesh edges the curves run along.
     struct Curve {
@@ -379,7 +282,7 @@ std::string retrace_on_input(const Mesh& input, const QuadLayout& L, QuadLayout*
     std::vector<char> node(n, 0);
     for (int v = 0; v < n; ++v)
         if (!next[v].empty() && (next[v].size() != 2 || v < nin)) node[v] = 1;
-    for (int v : L.corner_vertex) node[v] = 1;
+    for (int v : c_in.corners) node[v] = 1;
 
     // Chains: maximal runs of the curve graph between nodes (a closed run starts and ends at its
     // lowest vertex).
@@ -541,7 +444,7 @@ std::string retrace_on_input(const Mesh& input, const QuadLayout& L, QuadLayout*
     for (int v = 0; v < n; ++v)
         if (keep[v]) {
             id[v] = mesh.num_vertices();
-            mesh.points.push_back(v < n_old ? L.mesh.points[v] : points[v]);  // old points unmoved
+            mesh.points.push_back(v < static_cast<int>(written.size()) ? written[v] : points[v]);
         }
 
     // Each input triangle cut along its pieces and triangulated; face_of[t]: its input triangle.
@@ -579,7 +482,7 @@ std::string retrace_on_input(const Mesh& input, const QuadLayout& L, QuadLayout*
             for (int v : points_of[f]) {
                 const auto& fs = place[v];
                 if (v < nin || fs.size() != 2) continue;
-                const auto& e = edge_faces[edge_key(a, b)];
+                const auto& e = adjacency.edge(a, b);
                 if (!(std::find(e.begin(), e.end(), fs[0]) != e.end() &&
                       std::find(e.begin(), e.end(), fs[1]) != e.end()))
                     continue;
@@ -643,7 +546,8 @@ std::string retrace_on_input(const Mesh& input, const QuadLayout& L, QuadLayout*
 
     // The layout edges' pieces, in the new numbering.
     std::unordered_map<Key, char> on_edge_path;
-    QuadLayout r = L;
+    QuadLayout r = like;
+    r.input_vertices = nin;
     r.edge_paths = std::move(paths);
     r.orthogonal_system = std::move(system);
     r.s_cycles = std::move(s_cycles);
@@ -660,48 +564,21 @@ std::string retrace_on_input(const Mesh& input, const QuadLayout& L, QuadLayout*
     const PathsThrough sides(mesh.num_vertices(), r.edge_paths);
     for (auto& c : r.orthogonal_system) renumber(c);
     for (auto& c : r.s_cycles) renumber(c);
+    r.corner_vertex = c_in.corners;
     for (int& v : r.corner_vertex) v = id[v];
+    for (size_t k = 0; k < r.corner_vertex.size(); ++k) r.cage.points[k] = mesh.points[r.corner_vertex[k]];
 
     // Patches: the regions between the layout edges, each given the patch that held most of its
-    // area (located at each new triangle's centroid among the old triangles of its input triangle).
-    // An old triangle lies in each input triangle of its vertices' that is in its plane (more than
-    // one where the undoing of the refinement joined coplanar triangles).
-    std::vector<std::vector<int>> old_in_face(nf);
-    for (int t = 0; t < static_cast<int>(L.mesh.triangles.size()); ++t) {
-        const Triangle& tr = L.mesh.triangles[t];
-        Vec3 normal = cross(points[tr[1]] - points[tr[0]], points[tr[2]] - points[tr[0]]);
-        const double length = norm(normal);
-        if (!(length > 0)) continue;
-        normal = normal * (1 / length);
-        std::vector<int> faces;
-        for (int v : tr)
-            for (int f : place[v])
-                if (std::find(faces.begin(), faces.end(), f) == faces.end()) faces.push_back(f);
-        for (int f : faces) {
-            const Frame& fr = frame(f);
-            if (dot(cross(fr.e1, fr.e2), normal) > 1 - 1e-9) old_in_face[f].push_back(t);
-        }
-    }
+    // area (patch_at() of each new triangle's centroid).
     const int nt = static_cast<int>(mesh.triangles.size());
     std::vector<int> old_patch(nt, -1);
     std::vector<double> area(nt, 0);
     for (int t = 0; t < nt; ++t) {
-        const int f = face_of[t];
-        const Frame& fr = frame(f);
         const Triangle& tr = mesh.triangles[t];
         const Vec3 c3 = (mesh.points[tr[0]] + mesh.points[tr[1]] + mesh.points[tr[2]]) * (1.0 / 3);
         area[t] = 0.5 * norm(cross(mesh.points[tr[1]] - mesh.points[tr[0]],
                                    mesh.points[tr[2]] - mesh.points[tr[0]]));
-        const P2 c = fr.at(c3);
-        double best = -std::numeric_limits<double>::infinity();
-        for (int o : old_in_face[f]) {
-            const Triangle& ot = L.mesh.triangles[o];
-            const P2 a = fr.at(points[ot[0]]), b = fr.at(points[ot[1]]), d = fr.at(points[ot[2]]);
-            const double whole = orient(a, b, d);
-            if (!(whole > 0)) continue;
-            const double inside = std::min({orient(a, b, c), orient(b, d, c), orient(d, a, c)}) / whole;
-            if (inside > best) best = inside, old_patch[t] = L.triangle_patch[o];
-        }
+        old_patch[t] = patch_at(face_of[t], c3);
         if (old_patch[t] < 0) return "a new triangle lies over no old one";
     }
     std::unordered_map<Key, std::vector<int>> edge_triangles;
@@ -710,7 +587,7 @@ std::string retrace_on_input(const Mesh& input, const QuadLayout& L, QuadLayout*
             edge_triangles[edge_key(mesh.triangles[t][k], mesh.triangles[t][(k + 1) % 3])].push_back(t);
     std::vector<int> region(nt, -1);
     std::vector<std::vector<double>> votes;
-    const int quads = L.cage.num_quads();
+    const int quads = like.cage.num_quads();
     for (int s = 0; s < nt; ++s) {
         if (region[s] >= 0) continue;
         const int rg = static_cast<int>(votes.size());
@@ -801,6 +678,182 @@ std::string retrace_on_input(const Mesh& input, const QuadLayout& L, QuadLayout*
     if (std::string problem = verify_quad_layout(r); !problem.empty()) return problem;
     *out = std::move(r);
     return "";
+}
+
+
+std::string retrace_on_input(const Mesh& input, const QuadLayout& L, QuadLayout* out) {
+    const int nin = L.input_vertices;
+    if (nin != input.num_vertices()) return "the layout is not of this input";
+    const int n = L.mesh.num_vertices();
+    const int nf = static_cast<int>(input.triangles.size());
+    for (const Triangle& t : input.triangles)
+        if (!(norm(cross(input.points[t[1]] - input.points[t[0]], input.points[t[2]] - input.points[t[0]])) >
+              0))
+            return "the input has a triangle of zero area";
+
+    // Where each layout vertex lies on the input.
+    const InputAdjacency adjacency(input);
+    const auto& vertex_faces = adjacency.vertex_faces;
+    const TriangleGrid grid(input);
+    const double tolerance = 1e-8 * grid.diag();
+    // Where each layout vertex lies on the input: the input triangles it is in (one inside a
+    // triangle, two on an edge, all round an input vertex).
+    std::vector<std::vector<int>> place(n);
+    std::vector<Vec3> points = L.mesh.points;
+    for (int v = 0; v < n; ++v) {
+        if (v < nin) {
+            place[v] = vertex_faces[v];
+            continue;
+        }
+        std::array<double, 3> w{};
+        const int f = grid.locate(points[v], tolerance, &w);
+        if (f < 0) return "layout vertex " + std::to_string(v) + " lies on no input triangle";
+        const Triangle& t = input.triangles[f];
+        int zeros = 0, zero = -1;
+        for (int k = 0; k < 3; ++k)
+            if (w[k] <= kOnEdge) ++zeros, zero = k;
+        if (zeros >= 2) return "layout vertex " + std::to_string(v) + " lies on an input vertex";
+        if (zeros == 1) {
+            const int a = t[(zero + 1) % 3], b = t[(zero + 2) % 3];
+            place[v] = adjacency.edge(a, b);
+            // Exactly on the edge, as the split that made it meant.
+            const double s = w[(zero + 2) % 3] / (w[(zero + 1) % 3] + w[(zero + 2) % 3]);
+            points[v] = input.points[a] + (input.points[b] - input.points[a]) * s;
+        } else {
+            place[v] = {f};
+        }
+    }
+
+    Frames frame(input);
+
+    // The curves. Where the refinement was undone inside a plane, a mesh edge can cross input
+    // edges between coplanar triangles: the points where it does are added to the curves through it.
+    std::vector<std::vector<int>> paths = L.edge_paths, system = L.orthogonal_system, s_cycles = L.s_cycles;
+    std::unordered_map<Key, std::vector<int>> crossings;  // by mesh edge, from its lower vertex
+    auto neighbour = [&](int f, int a, int b) {
+        for (int g : adjacency.edge(a, b))
+            if (g != f) return g;
+        return -1;
+    };
+    std::string crossing_problem;
+    auto cross_between = [&](int a, int b) -> const std::vector<int>& {
+        const Key key = edge_key(a, b);
+        if (auto it = crossings.find(key); it != crossings.end()) return it->second;
+        std::vector<int>& made = crossings[key];
+        const int lo = std::min(a, b), hi = std::max(a, b);
+        const Vec3 p = points[lo], q = points[hi];
+        // The triangle of lo's that the edge leaves it into.
+        int f = -1;
+        double best = -std::numeric_limits<double>::infinity();
+        for (int g : place[lo]) {
+            const Frame& fr = frame(g);
+            const Triangle& t = input.triangles[g];
+            const P2 x = fr.at(p + (q - p) * 1e-6);
+            const double in = std::min({orient(fr.at(input.points[t[0]]), fr.at(input.points[t[1]]), x),
+                                        orient(fr.at(input.points[t[1]]), fr.at(input.points[t[2]]), x),
+                                        orient(fr.at(input.points[t[2]]), fr.at(input.points[t[0]]), x)});
+            if (in > best) best = in, f = g;
+        }
+        double at = 0;
+        for (int step = 0; f >= 0 && step < 10000; ++step) {
+            if (std::find(place[hi].begin(), place[hi].end(), f) != place[hi].end()) return made;
+            const Frame& fr = frame(f);
+            const Triangle& t = input.triangles[f];
+            const P2 P = fr.at(p), Q = fr.at(q);
+            double first = std::numeric_limits<double>::infinity(), u_first = 0;
+            int k_first = -1;
+            for (int k = 0; k < 3; ++k) {
+                const P2 A = fr.at(input.points[t[k]]), B = fr.at(input.points[t[(k + 1) % 3]]);
+                const double den = cross2(Q - P, B - A);
+                if (den == 0) continue;
+                const double s = cross2(A - P, B - A) / den, u = cross2(A - P, Q - P) / den;
+                if (s > at + 1e-12 && s < first && u >= -1e-9 && u <= 1 + 1e-9)
+                    first = s, u_first = u, k_first = k;
+            }
+            if (k_first < 0 || first >= 1) break;
+            if (u_first <= 1e-9 || u_first >= 1 - 1e-9) {
+                crossing_problem = "a mesh edge passes through an input vertex";
+                return made;
+            }
+            const int ea = t[k_first], eb = t[(k_first + 1) % 3];
+            const int v = static_cast<int>(points.size());
+            points.push_back(input.points[ea] + (input.points[eb] - input.points[ea]) * u_first);
+            place.push_back(adjacency.edge(ea, eb));
+            made.push_back(v);
+            at = first;
+            f = neighbour(f, ea, eb);
+        }
+        crossing_problem = "a mesh edge could not be followed across the input's triangles";
+        return made;
+    };
+    auto expand = [&](std::vector<int>& curve, bool closed) {
+        std::vector<int> out;
+        const size_t m = curve.size();
+        for (size_t i = 0; i < m; ++i) {
+            out.push_back(curve[i]);
+            if (i + 1 == m && !closed) break;
+            const int a = curve[i], b = curve[(i + 1) % m];
+            if (!shared(place[a], place[b]).empty()) continue;
+            const std::vector<int> between = cross_between(a, b);
+            if (a < b)
+                out.insert(out.end(), between.begin(), between.end());
+            else
+                out.insert(out.end(), between.rbegin(), between.rend());
+        }
+        curve = std::move(out);
+    };
+    for (auto& c : paths) expand(c, false);
+    for (auto& c : system) expand(c, true);
+    for (auto& c : s_cycles) expand(c, true);
+    if (!crossing_problem.empty()) return crossing_problem;
+
+    CurvesOnInput curves;
+    curves.points = std::move(points);
+    curves.place = std::move(place);
+    curves.edge_paths = std::move(paths);
+    curves.orthogonal_system = std::move(system);
+    curves.s_cycles = std::move(s_cycles);
+    curves.corners = L.corner_vertex;
+
+    // Each new triangle takes the patch of the old triangle its centroid lies deepest in, among the
+    // old triangles of its input triangle. An old triangle lies in each input triangle of its
+    // vertices' that is in its plane (more than one where the undoing of the refinement joined
+    // coplanar triangles).
+    std::vector<std::vector<int>> old_in_face(nf);
+    for (int t = 0; t < static_cast<int>(L.mesh.triangles.size()); ++t) {
+        const Triangle& tr = L.mesh.triangles[t];
+        Vec3 normal = cross(curves.points[tr[1]] - curves.points[tr[0]], curves.points[tr[2]] - curves.points[tr[0]]);
+        const double length = norm(normal);
+        if (!(length > 0)) continue;
+        normal = normal * (1 / length);
+        std::vector<int> faces;
+        for (int v : tr)
+            for (int f : curves.place[v])
+                if (std::find(faces.begin(), faces.end(), f) == faces.end()) faces.push_back(f);
+        for (int f : faces) {
+            const Frame& fr = frame(f);
+            if (dot(cross(fr.e1, fr.e2), normal) > 1 - 1e-9) old_in_face[f].push_back(t);
+        }
+    }
+    const PatchAt patch_at = [&](int f, const Vec3& c3) {
+        const Frame& fr = frame(f);
+        const P2 c = fr.at(c3);
+        double best = -std::numeric_limits<double>::infinity();
+        int patch = -1;
+        for (int o : old_in_face[f]) {
+            const Triangle& ot = L.mesh.triangles[o];
+            const P2 a = fr.at(curves.points[ot[0]]), b = fr.at(curves.points[ot[1]]), d = fr.at(curves.points[ot[2]]);
+            const double whole = orient(a, b, d);
+            if (!(whole > 0)) continue;
+            const double inside = std::min({orient(a, b, c), orient(b, d, c), orient(d, a, c)}) / whole;
+            if (inside > best) best = inside, patch = L.triangle_patch[o];
+        }
+        return patch;
+    };
+
+    // The layout's own points are written as they were (those on input edges were put exactly on
+    // them above, for the geometry only).
+    return cut_input_along(input, adjacency, curves, L.mesh.points, patch_at, L, out);
 }
 
 }  // namespace quadcage::layout::detail

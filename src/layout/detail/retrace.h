@@ -6,12 +6,51 @@
 // keeps only the points where it passes from one input triangle to the next (and its corners and
 // the points where it meets other curves), and runs straight between them inside each triangle.
 
+#include <cstdint>
+#include <functional>
 #include <string>
+#include <unordered_map>
+#include <vector>
 
 #include "quadcage/core/mesh.h"
 #include "quadcage/layout/quad_layout.h"
 
 namespace quadcage::layout::detail {
+
+/// The input triangles round each vertex and each edge of an input.
+struct InputAdjacency {
+    explicit InputAdjacency(const Mesh& input);
+    /// The triangles of edge ab (either order); none if it is not an edge.
+    const std::vector<int>& edge(int a, int b) const;
+    std::vector<std::vector<int>> vertex_faces;
+    std::unordered_map<std::uint64_t, std::vector<int>> edge_faces;  ///< by edge_key()
+};
+
+/// Layout curves located on an input's triangles, for cut_input_along().
+struct CurvesOnInput {
+    std::vector<Vec3> points;  ///< The input's points first, in order, then the curves' own.
+    /// Per point: the input triangles it lies in (all round an input vertex, the two of the input
+    /// edge it lies on, else the one it lies inside).
+    std::vector<std::vector<int>> place;
+    /// Point paths as in QuadLayout (closed cycles without the first point repeated); two points in
+    /// a row lie in one input triangle.
+    std::vector<std::vector<int>> edge_paths, orthogonal_system, s_cycles;
+    std::vector<int> corners;  ///< The point of each cage corner.
+};
+
+/// The patch that a point inside input triangle `input_triangle` lies in, or -1 if it cannot say.
+using PatchAt = std::function<int(int input_triangle, const Vec3& point)>;
+
+/// The layout on `input` whose curves are `curves`: the input with only the curves' points that
+/// they need, each input triangle cut by the straight pieces of the curves that cross it and
+/// triangulated (retrace_on_input() says which points are kept). Each region between the layout
+/// edges takes the patch that patch_at() gives most of its area (at its triangles' centroids);
+/// everything else (the cage's topology, genus, flags) is `like`'s, with the cage's points at the
+/// new corners. Points below written.size() are written as written[] gives them (the geometry
+/// uses curves.points). Mapped again and verified. Returns "" and sets *out, or says why not.
+std::string cut_input_along(const Mesh& input, const InputAdjacency& adjacency, const CurvesOnInput& curves,
+                            const std::vector<Vec3>& written, const PatchAt& patch_at, const QuadLayout& like,
+                            QuadLayout* out);
 
 /// A layout equivalent to `layout` on the triangles of `input` alone: its mesh is `input` with only
 /// the vertices its curves (layout edges, orthogonal system, S-cycles) keep, each input triangle
