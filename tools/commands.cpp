@@ -181,6 +181,7 @@ void apply(const EmbeddingFlags& flags, layout::QuadLayoutOptions* options) {
     options->edge_embedding_max_vertices = flags.edge_embedding_max_vertices;
     options->edge_embedding_cone_charts = flags.edge_embedding_cone_charts;
     options->edge_embedding_area_weight = flags.edge_embedding_area_weight;
+    options->proxy_vertices = flags.proxy_vertices;
 }
 
 // The shortest of %.15g and %.17g that reads back as x.
@@ -220,6 +221,8 @@ std::vector<std::string> embedding_arguments(const EmbeddingFlags& flags) {
     if (flags.edge_embedding_area_weight != defaults.edge_embedding_area_weight)
         args.insert(args.end(),
                     {"--edge-embedding-area-weight", exact_number(flags.edge_embedding_area_weight)});
+    if (flags.proxy_vertices != defaults.proxy_vertices)
+        args.insert(args.end(), {"--proxy-vertices", std::to_string(flags.proxy_vertices)});
     return args;
 }
 

@@ -93,6 +93,13 @@ std::vector<CLI::Option*> add_embedding_flags(CLI::App* cmd, quadcage::cli::Embe
                "step: at botijo's 39k vertices on 2 cores, 7 steps in 2.5-3.6 s when the machine is idle")
             ->check(CLI::NonNegativeNumber));
     all.push_back(
+        cmd->add_option("--proxy-vertices", flags.proxy_vertices,
+                        "Experimental (default 0: off): build the layout on a copy of the input decimated\n"
+                        "to N vertices (OpenMesh's quadrics), then carry its curves onto the input's own\n"
+                        "triangles; only for inputs of more than 2N vertices. Falls back to building on the\n"
+                        "input itself, and says why, where the copy or the carrying over fails")
+            ->check(CLI::NonNegativeNumber));
+    all.push_back(
         cmd->add_option("--edge-embedding-max-vertices", flags.edge_embedding_max_vertices,
                         "Skip the edge embedding (only smooth the edges) on layout meshes with more\n"
                         "vertices than this (default 200000; at 648k, on one BLAS thread: 8.4 s a step,\n"

@@ -18,10 +18,12 @@
 #include <thread>
 
 #include "detail/embedding.h"
+#include "detail/retrace.h"
 #include "detail/patches.h"
 #include "detail/stages.h"
 #include "detail/surface.h"
 #include "quadcage/core/errors.h"
+#include "quadcage/core/openmesh_bridge.h"
 #include "quadcage/core/validate.h"
 
 namespace quadcage::layout {
@@ -32,6 +34,7 @@ std::string QuadLayoutOptions::validate() const {
         return "relax_corner_sweeps must be >= 0, got " + std::to_string(relax_corner_sweeps);
     if (edge_embedding_iterations < 0)
         return "edge_embedding_iterations must be >= 0, got " + std::to_string(edge_embedding_iterations);
+    if (proxy_vertices < 0) return "proxy_vertices must be >= 0, got " + std::to_string(proxy_vertices);
     if (edge_embedding_max_vertices < 0)
         return "edge_embedding_max_vertices must be >= 0, got " + std::to_string(edge_embedding_max_vertices);
     if (!(edge_embedding_cone_charts >= 0) || !std::isfinite(edge_embedding_cone_charts))
@@ -499,10 +502,15 @@ Vec3 offset_for_layout(const Mesh& mesh) {
     return {offset[0], offset[1], offset[2]};
 }
 
+std::optional<QuadLayout> layout_on_proxy(const Mesh& input, const QuadLayoutOptions& options, const Say& say);
+
 QuadLayout build_layout_in_place(const Mesh& input, const QuadLayoutOptions& options) {
     const Say say = [&options](const std::string& m) {
         if (options.progress) options.progress(m);
     };
+    // Built on a decimated copy and carried onto the input (retrace.cpp), if asked and it works.
+    if (options.proxy_vertices > 0 && input.num_vertices() > 2 * static_cast<long long>(options.proxy_vertices))
+        if (std::optional<QuadLayout> traced = layout_on_proxy(input, options, say)) return std::move(*traced);
     // The orthogonal system of cycles (orthogonal_system.cpp), on the input or a refined copy.
     const Cycles cycles = build_cycles(input, options);
     // S-cycles and pieces (handle_loop_s_cycles.cpp, s_cycles.cpp, pieces.cpp), then T-shirts and
@@ -527,6 +535,51 @@ QuadLayout build_layout_in_place(const Mesh& input, const QuadLayoutOptions& opt
     if (added > bound)
         say("refinement: " + std::to_string(added) + " vertices added, over the bound of " +
             std::to_string(bound) + " (a quarter of the input's plus 200 per corner)");
+    return out;
+}
+
+std::optional<QuadLayout> layout_on_proxy(const Mesh& input, const QuadLayoutOptions& options, const Say& say) {
+    using Clock = std::chrono::steady_clock;
+    const auto seconds_since = [](Clock::time_point t) {
+        return std::chrono::duration<double>(Clock::now() - t).count();
+    };
+    const auto start = Clock::now();
+    const std::string n = std::to_string(options.proxy_vertices);
+    say("proxy: decimating the input to " + n + " vertices");
+    const Mesh proxy = decimated(input, options.proxy_vertices);
+    const ValidationReport in = validate(input), copy = validate(proxy);
+    if (!copy.quaddable() || copy.components.size() != 1 || copy.zero_area_triangles > 0 ||
+        in.components.size() != 1 || copy.components[0].genus != in.components[0].genus) {
+        say("proxy: the decimated copy is not a closed surface of the input's genus; building on the input itself");
+        return std::nullopt;
+    }
+    const double decimation = seconds_since(start);
+    QuadLayoutOptions on_copy = options;
+    on_copy.proxy_vertices = 0;
+    on_copy.progress = [&say](const std::string& m) { say("proxy: " + m); };
+    QuadLayout made;
+    try {
+        made = build_layout_in_place(proxy, on_copy);
+    } catch (const InternalError& e) {
+        say(std::string("proxy: no layout on the decimated copy (") + e.what() + "); building on the input itself");
+        return std::nullopt;
+    }
+    const auto trace_start = Clock::now();
+    QuadLayout out;
+    if (const std::string problem = detail::trace_from_proxy(input, made, &out); !problem.empty()) {
+        say("proxy: not carried onto the input (" + problem + "); building on the input itself");
+        return std::nullopt;
+    }
+    detail::measure_quality(&out);
+    out.seconds.cycles += decimation;
+    out.seconds.curves += seconds_since(trace_start);
+    char line[200];
+    std::snprintf(line, sizeof line,
+                  "proxy: carried onto the input (%d vertices added): patch area max/min %.3g, corner angle "
+                  "deviation %.1f deg; %.2f s in all",
+                  out.mesh.num_vertices() - out.input_vertices, out.quality.patch_area_max_over_min,
+                  out.quality.corner_angle_mean_deviation_deg, seconds_since(start));
+    say(line);
     return out;
 }
 

@@ -4,13 +4,16 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <map>
+#include <queue>
 #include <unordered_map>
 #include <vector>
 
 #include "detail/curves.h"
 #include "detail/patches.h"
+#include "quadcage/accel/closest_point.h"
 #include "quadcage/core/errors.h"
 
 namespace quadcage::layout::detail {
@@ -124,6 +127,17 @@ Frame frame_of(const Mesh& m, int f) {
     Vec3 e1 = b - a;
     e1 = e1 * (1 / norm(e1));
     return {a, e1, cross(n, e1)};
+}
+
+// Where the line through P and Q (at P + s (Q - P)) meets the line of side k of input triangle t
+// (at its first end plus u times the side), in frame fr; false if they are parallel.
+bool meets_side(const Mesh& input, const Frame& fr, const Triangle& t, int k, P2 P, P2 Q, double* s, double* u) {
+    const P2 A = fr.at(input.points[t[k]]), B = fr.at(input.points[t[(k + 1) % 3]]);
+    const double den = cross2(Q - P, B - A);
+    if (den == 0) return false;
+    *s = cross2(A - P, B - A) / den;
+    *u = cross2(A - P, Q - P) / den;
+    return true;
 }
 
 // Whether segments ab and cd cross or overlap other than at an endpoint they share; eps is a length.
@@ -763,10 +777,8 @@ std::string retrace_on_input(const Mesh& input, const QuadLayout& L, QuadLayout*
             double first = std::numeric_limits<double>::infinity(), u_first = 0;
             int k_first = -1;
             for (int k = 0; k < 3; ++k) {
-                const P2 A = fr.at(input.points[t[k]]), B = fr.at(input.points[t[(k + 1) % 3]]);
-                const double den = cross2(Q - P, B - A);
-                if (den == 0) continue;
-                const double s = cross2(A - P, B - A) / den, u = cross2(A - P, Q - P) / den;
+                double s = 0, u = 0;
+                if (!meets_side(input, fr, t, k, P, Q, &s, &u)) continue;
                 if (s > at + 1e-12 && s < first && u >= -1e-9 && u <= 1 + 1e-9)
                     first = s, u_first = u, k_first = k;
             }
@@ -854,6 +866,316 @@ std::string retrace_on_input(const Mesh& input, const QuadLayout& L, QuadLayout*
     // The layout's own points are written as they were (those on input edges were put exactly on
     // them above, for the geometry only).
     return cut_input_along(input, adjacency, curves, L.mesh.points, patch_at, L, out);
+}
+
+namespace {
+
+// Barycentric weights this small put a projected point on the input edge or vertex it is nearest.
+constexpr double kOnInputEdge = 1e-9;
+
+// The way across the input from point p to point q (each inside an input triangle, on an input
+// edge or at an input vertex): from p, and then from each point where it enters a triangle,
+// straight towards q in that triangle's plane. Its crossings of input edges are appended to points
+// and place (and their ids to *crossed). False if the way is lost: q lies behind it in a
+// triangle's plane, it reaches no triangle of q's within 64 triangles, or it runs through an input
+// vertex.
+bool walk_between(const Mesh& input, const InputAdjacency& adjacency, Frames& frame, std::vector<Vec3>& points,
+                  std::vector<std::vector<int>>& place, int p, int q, std::vector<int>* crossed) {
+    if (!shared(place[p], place[q]).empty()) return true;
+    // The triangle of p's that the way leaves p into.
+    int f = -1;
+    double best_in = -std::numeric_limits<double>::infinity();
+    for (int g : place[p]) {
+        const Frame& fr = frame(g);
+        const Triangle& t = input.triangles[g];
+        const P2 x = fr.at(points[p] + (points[q] - points[p]) * 1e-6);
+        const double in = std::min({orient(fr.at(input.points[t[0]]), fr.at(input.points[t[1]]), x),
+                                    orient(fr.at(input.points[t[1]]), fr.at(input.points[t[2]]), x),
+                                    orient(fr.at(input.points[t[2]]), fr.at(input.points[t[0]]), x)});
+        if (in > best_in) best_in = in, f = g;
+    }
+    const std::vector<int>& targets = place[q];
+    int from = p;  // where the way entered f
+    for (int step = 0; step < 64; ++step) {
+        if (std::find(targets.begin(), targets.end(), f) != targets.end()) return true;
+        const Frame& fr = frame(f);
+        const Triangle& t = input.triangles[f];
+        const P2 P = fr.at(points[from]), Q = fr.at(points[q]);
+        double best_s = -std::numeric_limits<double>::infinity(), best_u = 0;
+        int best_k = -1;
+        for (int k = 0; k < 3; ++k) {
+            double s = 0, u = 0;
+            if (!meets_side(input, fr, t, k, P, Q, &s, &u)) continue;
+            // Forward, by more than rounding: not the edge the way came in through (or lies on).
+            if (u < -1e-9 || u > 1 + 1e-9 || !(s > 1e-9)) continue;
+            if (s > best_s) best_s = s, best_u = u, best_k = k;
+        }
+        if (best_k < 0) return false;
+        if (best_u <= 1e-9 || best_u >= 1 - 1e-9) return false;  // through an input vertex
+        const int a = t[best_k], b = t[(best_k + 1) % 3];
+        const std::vector<int>& faces = adjacency.edge(a, b);
+        if (faces.size() != 2) return false;
+        from = static_cast<int>(points.size());
+        crossed->push_back(from);
+        points.push_back(input.points[a] + (input.points[b] - input.points[a]) * best_u);
+        place.push_back(faces);
+        f = faces[0] == f ? faces[1] : faces[0];
+    }
+    return false;
+}
+
+}  // namespace
+
+std::string trace_from_proxy(const Mesh& input, const QuadLayout& proxy, QuadLayout* out) {
+    const int nin = input.num_vertices();
+    for (const Triangle& t : input.triangles)
+        if (!(norm(cross(input.points[t[1]] - input.points[t[0]], input.points[t[2]] - input.points[t[0]])) >
+              0))
+            return "the input has a triangle of zero area";
+    const InputAdjacency adjacency(input);
+    Frames frame(input);
+    const accel::ClosestPointIndex on_input(input);
+    std::vector<Vec3> points = input.points;
+    std::vector<std::vector<int>> place = adjacency.vertex_faces;
+
+    // The input's median edge length: the samples' spacing along the proxy's edges.
+    std::vector<double> lengths;
+    for (const Triangle& t : input.triangles)
+        for (int k = 0; k < 3; ++k)
+            if (t[k] < t[(k + 1) % 3]) lengths.push_back(norm(input.points[t[k]] - input.points[t[(k + 1) % 3]]));
+    std::nth_element(lengths.begin(), lengths.begin() + static_cast<long>(lengths.size() / 2), lengths.end());
+    const double spacing = lengths.empty() ? 1.0 : lengths[lengths.size() / 2];
+
+    // The proxy's points projected onto the input. A whole region of space (a normal cone) has its
+    // closest point at an input vertex or on an input edge, and curves through it would meet there:
+    // such a point is moved off it, into the triangle round it that its offset from the surface,
+    // taken along the surface, points into, by a distance that grows with that offset (at most
+    // kSpread of the median edge, and a quarter of the way across the triangle). Distinct offsets
+    // stay distinct, and in their order round the vertex.
+    constexpr double kSpread = 0.1;
+    auto inside = [&](int f, const Vec3& p) {  // p's barycentric weights in f, all above rounding
+        const Triangle& t = input.triangles[f];
+        const Vec3 A = input.points[t[0]], B = input.points[t[1]], C = input.points[t[2]];
+        const Vec3 n = cross(B - A, C - A);
+        const double area2 = dot(n, n);
+        return dot(cross(B - p, C - p), n) / area2 > 1e-6 && dot(cross(C - p, A - p), n) / area2 > 1e-6 &&
+               dot(cross(A - p, B - p), n) / area2 > 1e-6;
+    };
+    auto add_point = [&](const Vec3& p, std::vector<int> where) {
+        points.push_back(p);
+        place.push_back(std::move(where));
+        return static_cast<int>(points.size()) - 1;
+    };
+    // y moved into f along the unit direction u (in f's plane) by up to `far`, halved until inside.
+    auto moved_into = [&](int f, const Vec3& y, const Vec3& u, double far) -> int {
+        for (int halving = 0; halving < 30; ++halving, far *= 0.5)
+            if (inside(f, y + u * far)) return add_point(y + u * far, {f});
+        return -1;
+    };
+    auto project = [&](const Vec3& x) {
+        const accel::ClosestHit hit = on_input.query(x);
+        const Triangle& t = input.triangles[hit.triangle];
+        const std::array<double, 3>& w = hit.barycentric;
+        int zeros = 0, zero = -1;
+        for (int k = 0; k < 3; ++k)
+            if (w[k] <= kOnInputEdge) ++zeros, zero = k;
+        if (zeros == 0)
+            return add_point(input.points[t[0]] * w[0] + input.points[t[1]] * w[1] + input.points[t[2]] * w[2],
+                             {hit.triangle});
+        const int vertex = zeros >= 2 ? t[std::max_element(w.begin(), w.end()) - w.begin()] : -1;
+        const int ea = t[(zero + 1) % 3], eb = t[(zero + 2) % 3];
+        const std::vector<int>& faces = vertex >= 0 ? adjacency.vertex_faces[vertex] : adjacency.edge(ea, eb);
+        Vec3 y;
+        if (vertex >= 0) {
+            y = input.points[vertex];
+        } else {
+            const double u = w[(zero + 2) % 3] / (w[(zero + 1) % 3] + w[(zero + 2) % 3]);
+            y = input.points[ea] + (input.points[eb] - input.points[ea]) * u;
+        }
+        Vec3 normal{};
+        for (int f : faces) {
+            const Triangle& g = input.triangles[f];
+            normal = normal + cross(input.points[g[1]] - input.points[g[0]], input.points[g[2]] - input.points[g[0]]);
+        }
+        const double nl = norm(normal);
+        Vec3 d = x - y;
+        if (nl > 0) d = d - normal * (dot(d, normal) / (nl * nl));
+        const double r = norm(d);
+        const double far = kSpread * spacing * r / (r + spacing);
+        // The triangle round y that d points into most, and d in its plane.
+        int best = -1;
+        double best_score = -std::numeric_limits<double>::infinity();
+        Vec3 best_u{};
+        if (r > 0)
+            for (int f : faces) {
+                const Frame& fr = frame(f);
+                const P2 D = {dot(d, fr.e1), dot(d, fr.e2)};
+                const double length = std::hypot(D.x, D.y);
+                if (!(length > 0)) continue;
+                const Vec3 u = (fr.e1 * D.x + fr.e2 * D.y) * (1 / length);
+                // How far inside f a short step along u from y lands (its smallest weight, over the step).
+                const Triangle& g = input.triangles[f];
+                const Vec3 A = input.points[g[0]], B = input.points[g[1]], C = input.points[g[2]];
+                const Vec3 n = cross(B - A, C - A);
+                const double area2 = dot(n, n);
+                const Vec3 q = y + u * (1e-3 * spacing);
+                const double score = std::min({dot(cross(B - q, C - q), n), dot(cross(C - q, A - q), n),
+                                               dot(cross(A - q, B - q), n)}) / area2;
+                if (score > best_score) best_score = score, best = f, best_u = u;
+            }
+        if (best >= 0 && far > 0) {
+            const Triangle& g = input.triangles[best];
+            double size = std::numeric_limits<double>::infinity();
+            for (int k = 0; k < 3; ++k) size = std::min(size, norm(input.points[g[k]] - input.points[g[(k + 1) % 3]]));
+            const int moved = moved_into(best, y, best_u, std::min(far, 0.25 * size));
+            if (moved >= 0) return moved;
+        }
+        if (vertex >= 0) return vertex;
+        return add_point(y, faces);
+    };
+
+    // Samples along each proxy edge the curves use about an input edge apart (the median), each
+    // walked to the next; where a walk is lost, the midpoint between its samples is projected too.
+    // Where nearby proxy points project far apart (across a ridge seen from inside, where the
+    // closest point jumps from one side to the other), the two are joined along input edges: the
+    // shortest way from a corner of the first's triangle to one of the second's, through input
+    // vertices, if it is at most kBridge median edges of the proxy long (a longer jump is across a
+    // part thinner than the proxy's triangles, and the way fails). The jumps grow with the
+    // proxy's distance from the input, so with its edges, not the input's.
+    constexpr double kBridge = 2;
+    std::vector<double> proxy_lengths;
+    for (const Triangle& t : proxy.mesh.triangles)
+        for (int k = 0; k < 3; ++k)
+            if (t[k] < t[(k + 1) % 3] && t[k] < proxy.input_vertices && t[(k + 1) % 3] < proxy.input_vertices)
+                proxy_lengths.push_back(norm(proxy.mesh.points[t[k]] - proxy.mesh.points[t[(k + 1) % 3]]));
+    std::nth_element(proxy_lengths.begin(), proxy_lengths.begin() + static_cast<long>(proxy_lengths.size() / 2),
+                     proxy_lengths.end());
+    const double bridge_limit =
+        kBridge * std::max(spacing, proxy_lengths.empty() ? 0.0 : proxy_lengths[proxy_lengths.size() / 2]);
+    std::vector<std::vector<int>> neighbours;  // made if needed
+    auto bridge = [&](int ia, int ib, std::vector<int>* chain) {
+        if (neighbours.empty()) {
+            neighbours.resize(nin);
+            for (const Triangle& t : input.triangles)
+                for (int k = 0; k < 3; ++k) neighbours[t[k]].push_back(t[(k + 1) % 3]);
+        }
+        std::vector<int> ends;  // the corners of q's triangles
+        for (int f : place[ib]) ends.insert(ends.end(), input.triangles[f].begin(), input.triangles[f].end());
+        std::unordered_map<int, double> distance;
+        std::unordered_map<int, int> previous;
+        using Entry = std::pair<double, int>;
+        std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
+        for (int f : place[ia])
+            for (int v : input.triangles[f]) {
+                const double d = norm(points[v] - points[ia]);
+                if (const auto it = distance.find(v); it == distance.end() || d < it->second)
+                    distance[v] = d, previous[v] = -1, queue.push({d, v});
+            }
+        int end = -1;
+        for (int pops = 0; !queue.empty() && pops < 4096; ++pops) {
+            const auto [d, v] = queue.top();
+            queue.pop();
+            if (d > bridge_limit) break;  // a jump across a thin part, not a ridge
+            if (d > distance[v]) continue;
+            if (std::find(ends.begin(), ends.end(), v) != ends.end()) {
+                end = v;
+                break;
+            }
+            for (int w : neighbours[v]) {
+                const double dw = d + norm(points[w] - points[v]);
+                if (const auto it = distance.find(w); it == distance.end() || dw < it->second)
+                    distance[w] = dw, previous[w] = v, queue.push({dw, w});
+            }
+        }
+        if (end < 0) return false;
+        std::vector<int> path;
+        for (int v = end; v >= 0; v = previous[v])
+            if (v != ia && v != ib) path.push_back(v);
+        chain->insert(chain->end(), path.rbegin(), path.rend());
+        return true;
+    };
+    std::function<bool(const Vec3&, int, const Vec3&, int, int, std::vector<int>*)> trace =
+        [&](const Vec3& A, int ia, const Vec3& B, int ib, int depth, std::vector<int>* chain) {
+            const size_t before = points.size();
+            std::vector<int> crossed;
+            if (walk_between(input, adjacency, frame, points, place, ia, ib, &crossed)) {
+                chain->insert(chain->end(), crossed.begin(), crossed.end());
+                return true;
+            }
+            points.resize(before);
+            place.resize(before);
+            if (depth == 0) return bridge(ia, ib, chain);
+            const Vec3 M = (A + B) * 0.5;
+            const int im = project(M);
+            if (!trace(A, ia, M, im, depth - 1, chain)) return false;
+            chain->push_back(im);
+            return trace(M, im, B, ib, depth - 1, chain);
+        };
+    const std::vector<Vec3>& proxy_points = proxy.mesh.points;
+    std::vector<int> id(proxy_points.size(), -1);
+    auto point_of = [&](int v) {
+        if (id[v] < 0) id[v] = project(proxy_points[v]);
+        return id[v];
+    };
+    std::unordered_map<Key, std::vector<int>> chain_of;  // by proxy edge, from its lower vertex
+    std::string problem;
+    auto chain = [&](int a, int b) -> const std::vector<int>& {
+        const Key key = edge_key(a, b);
+        if (auto it = chain_of.find(key); it != chain_of.end()) return it->second;
+        const int lo = std::min(a, b), hi = std::max(a, b);
+        std::vector<int>& made = chain_of[key];
+        const Vec3 A = proxy_points[lo], B = proxy_points[hi];
+        const int samples = static_cast<int>(std::floor(norm(B - A) / spacing));
+        Vec3 from = A;
+        int at = point_of(lo);
+        const int end = point_of(hi);
+        for (int i = 1; i <= samples + 1 && problem.empty(); ++i) {
+            const Vec3 to = i <= samples ? A + (B - A) * (static_cast<double>(i) / (samples + 1)) : B;
+            const int next = i <= samples ? project(to) : end;
+            if (!trace(from, at, to, next, 8, &made)) problem = "a curve could not be followed onto the input";
+            if (i <= samples) made.push_back(next);
+            from = to, at = next;
+        }
+        return made;
+    };
+    auto follow = [&](const std::vector<int>& curve, bool closed) {
+        std::vector<int> r;
+        const size_t m = curve.size();
+        for (size_t i = 0; i < m && problem.empty(); ++i) {
+            r.push_back(point_of(curve[i]));
+            if (i + 1 == m && !closed) break;
+            const int a = curve[i], b = curve[(i + 1) % m];
+            const std::vector<int>& between = chain(a, b);
+            if (a < b)
+                r.insert(r.end(), between.begin(), between.end());
+            else
+                r.insert(r.end(), between.rbegin(), between.rend());
+        }
+        return r;
+    };
+    // Points in a row that landed on one input vertex count once.
+    auto once = [](std::vector<int> c, bool closed) {
+        c.erase(std::unique(c.begin(), c.end()), c.end());
+        while (closed && c.size() > 1 && c.back() == c.front()) c.pop_back();
+        return c;
+    };
+    CurvesOnInput curves;
+    for (const auto& c : proxy.edge_paths) curves.edge_paths.push_back(once(follow(c, false), false));
+    for (const auto& c : proxy.orthogonal_system) curves.orthogonal_system.push_back(once(follow(c, true), true));
+    for (const auto& c : proxy.s_cycles) curves.s_cycles.push_back(once(follow(c, true), true));
+    for (int v : proxy.corner_vertex) curves.corners.push_back(point_of(v));
+    if (!problem.empty()) return problem;
+    curves.points = std::move(points);
+    curves.place = std::move(place);
+
+    // Each new triangle takes the patch of the proxy's triangle nearest its centroid.
+    const accel::ClosestPointIndex on_proxy(proxy.mesh);
+    const PatchAt patch_at = [&](int, const Vec3& c) {
+        const accel::ClosestHit hit = on_proxy.query(c);
+        return hit.triangle < 0 ? -1 : proxy.triangle_patch[hit.triangle];
+    };
+    std::vector<Vec3> written(input.points.begin(), input.points.begin() + nin);
+    return cut_input_along(input, adjacency, curves, written, patch_at, proxy, out);
 }
 
 }  // namespace quadcage::layout::detail

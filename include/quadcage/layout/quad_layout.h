@@ -105,6 +105,14 @@ struct QuadLayoutOptions {
     /// but skull, whose fit gets worse (RMS 7.76e-4 -> 9.32e-4, Hausdorff 9.65e-3 -> 1.24e-2), and
     /// boot's Hausdorff distance rises (1.01e-2 -> 1.44e-2), so it is off by default.
     double edge_embedding_area_weight = 0;
+    /// Build the layout on a copy of the input decimated to this many vertices (decimated(), OpenMesh's
+    /// quadrics) and carry it onto the input (0: off, the default), >= 0; only where the input has more
+    /// than twice as many vertices. Every stage above runs on the copy; the curves are then projected
+    /// onto the input and followed across its triangles (the layout is on the input's own triangles,
+    /// as without it). Where the copy loses the genus, its layout fails, or the curves cannot be
+    /// carried over and verified, the layout is built on the input itself (the progress says why).
+    /// Experimental: the README's "A layout built on a decimated copy" has what it measured.
+    int proxy_vertices = 0;
     /// Newton iterations of the global embedding optimisation (issue #20; 0: skip it), >= 0. The
     /// stage optimises one seamless map of the whole surface over the cage's unit squares
     /// (symmetric Dirichlet, corners as cones) and reports how evenly it spreads the surface area
