@@ -95,7 +95,7 @@ std::vector<CLI::Option*> add_embedding_flags(CLI::App* cmd, quadcage::cli::Embe
     all.push_back(
         cmd->add_option("--proxy-vertices", flags.proxy_vertices,
                         "Experimental (default 0: off): build the layout on a copy of the input decimated\n"
-                        "to N vertices (OpenMesh's quadrics), then carry its curves onto the input's own\n"
+                        "to N vertices (shortest-edge collapses), then carry its curves onto the input's own\n"
                         "triangles; only for inputs of more than 2N vertices. Falls back to building on the\n"
                         "input itself, and says why, where the copy or the carrying over fails")
             ->check(CLI::NonNegativeNumber));

@@ -105,8 +105,8 @@ struct QuadLayoutOptions {
     /// but skull, whose fit gets worse (RMS 7.76e-4 -> 9.32e-4, Hausdorff 9.65e-3 -> 1.24e-2), and
     /// boot's Hausdorff distance rises (1.01e-2 -> 1.44e-2), so it is off by default.
     double edge_embedding_area_weight = 0;
-    /// Build the layout on a copy of the input decimated to this many vertices (decimated(), OpenMesh's
-    /// quadrics) and carry it onto the input (0: off, the default), >= 0; only where the input has more
+    /// Build the layout on a copy of the input decimated to this many vertices (decimated():
+    /// shortest-edge collapses) and carry it onto the input (0: off, the default), >= 0; only where the input has more
     /// than twice as many vertices. Every stage above runs on the copy; the curves are then projected
     /// onto the input and followed across its triangles (the layout is on the input's own triangles,
     /// as without it). Where the copy loses the genus, its layout fails, or the curves cannot be
