@@ -18,8 +18,8 @@
 #include <thread>
 
 #include "detail/embedding.h"
-#include "detail/retrace.h"
 #include "detail/patches.h"
+#include "detail/retrace.h"
 #include "detail/stages.h"
 #include "detail/surface.h"
 #include "quadcage/core/errors.h"
@@ -580,6 +580,10 @@ std::optional<QuadLayout> layout_on_proxy(const Mesh& input, const QuadLayoutOpt
                   out.mesh.num_vertices() - out.input_vertices, out.quality.patch_area_max_over_min,
                   out.quality.corner_angle_mean_deviation_deg, seconds_since(start));
     say(line);
+    const long long bound = vertices_added_bound(out.input_vertices, out.cage.num_corners());
+    if (const long long added = out.mesh.num_vertices() - out.input_vertices; added > bound)
+        say("refinement: " + std::to_string(added) + " vertices added, over the bound of " +
+            std::to_string(bound) + " (a quarter of the input's plus 200 per corner)");
     return out;
 }
 
