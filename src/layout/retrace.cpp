@@ -1174,8 +1174,7 @@ std::string trace_from_proxy(const Mesh& input, const QuadLayout& proxy, QuadLay
         const accel::ClosestHit hit = on_proxy.query(c);
         return hit.triangle < 0 ? -1 : proxy.triangle_patch[hit.triangle];
     };
-    std::vector<Vec3> written(input.points.begin(), input.points.begin() + nin);
-    return cut_input_along(input, adjacency, curves, written, patch_at, proxy, out);
+    return cut_input_along(input, adjacency, curves, input.points, patch_at, proxy, out);
 }
 
 }  // namespace quadcage::layout::detail
