@@ -938,13 +938,21 @@ std::string trace_from_proxy(const Mesh& input, const QuadLayout& proxy, QuadLay
     std::vector<Vec3> points = input.points;
     std::vector<std::vector<int>> place = adjacency.vertex_faces;
 
+    // The median length of the edges between the first `below` points of m (0 if none).
+    auto median_edge = [](const Mesh& m, int below) {
+        std::vector<double> lengths;
+        for (const Triangle& t : m.triangles)
+            for (int k = 0; k < 3; ++k) {
+                const int a = t[k], b = t[(k + 1) % 3];
+                if (a < b && b < below) lengths.push_back(norm(m.points[a] - m.points[b]));
+            }
+        if (lengths.empty()) return 0.0;
+        std::nth_element(lengths.begin(), lengths.begin() + static_cast<long>(lengths.size() / 2), lengths.end());
+        return lengths[lengths.size() / 2];
+    };
     // The input's median edge length: the samples' spacing along the proxy's edges.
-    std::vector<double> lengths;
-    for (const Triangle& t : input.triangles)
-        for (int k = 0; k < 3; ++k)
-            if (t[k] < t[(k + 1) % 3]) lengths.push_back(norm(input.points[t[k]] - input.points[t[(k + 1) % 3]]));
-    std::nth_element(lengths.begin(), lengths.begin() + static_cast<long>(lengths.size() / 2), lengths.end());
-    const double spacing = lengths.empty() ? 1.0 : lengths[lengths.size() / 2];
+    const double input_edge = median_edge(input, nin);
+    const double spacing = input_edge > 0 ? input_edge : 1.0;
 
     // The proxy's points projected onto the input. A whole region of space (a normal cone) has its
     // closest point at an input vertex or on an input edge, and curves through it would meet there:
@@ -1043,15 +1051,7 @@ std::string trace_from_proxy(const Mesh& input, const QuadLayout& proxy, QuadLay
     // part thinner than the proxy's triangles, and the way fails). The jumps grow with the
     // proxy's distance from the input, so with its edges, not the input's.
     constexpr double kBridge = 2;
-    std::vector<double> proxy_lengths;
-    for (const Triangle& t : proxy.mesh.triangles)
-        for (int k = 0; k < 3; ++k)
-            if (t[k] < t[(k + 1) % 3] && t[k] < proxy.input_vertices && t[(k + 1) % 3] < proxy.input_vertices)
-                proxy_lengths.push_back(norm(proxy.mesh.points[t[k]] - proxy.mesh.points[t[(k + 1) % 3]]));
-    std::nth_element(proxy_lengths.begin(), proxy_lengths.begin() + static_cast<long>(proxy_lengths.size() / 2),
-                     proxy_lengths.end());
-    const double bridge_limit =
-        kBridge * std::max(spacing, proxy_lengths.empty() ? 0.0 : proxy_lengths[proxy_lengths.size() / 2]);
+    const double bridge_limit = kBridge * std::max(spacing, median_edge(proxy.mesh, proxy.input_vertices));
     std::vector<std::vector<int>> neighbours;  // made if needed
     auto bridge = [&](int ia, int ib, std::vector<int>* chain) {
         if (neighbours.empty()) {
