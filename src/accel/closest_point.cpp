@@ -332,6 +332,68 @@ ClosestHit ClosestPointIndex::query(const Vec3& p) const {
     return closest(*impl_, p, std::numeric_limits<double>::infinity());
 }
 
+ClosestHit ClosestPointIndex::first_hit(const Vec3& origin, const Vec3& direction, double max_distance) const {
+    QC_CHECK(impl_ != nullptr, "use of a moved-from ClosestPointIndex");
+    if (!is_finite(origin) || !is_finite(direction))
+        throw InvalidInput("ray query: the origin or the direction is not finite");
+    const double length = norm(direction);
+    if (!(length > 0)) throw InvalidInput("ray query: the direction is zero");
+    if (!(max_distance >= 0)) throw InvalidInput("ray query: the distance is negative or NaN");
+    const Impl& im = *impl_;
+    ClosestHit miss;
+    miss.distance = std::numeric_limits<double>::infinity();
+    const Vec3 o = (origin - im.centre) * im.scale;
+    const Vec3 u = direction * (1 / length);
+    if (std::max({std::abs(o.x), std::abs(o.y), std::abs(o.z)}) > kMaxEmbreeCoordinate) return miss;
+    RTCRayHit rh;
+    rh.ray.org_x = static_cast<float>(o.x);
+    rh.ray.org_y = static_cast<float>(o.y);
+    rh.ray.org_z = static_cast<float>(o.z);
+    rh.ray.dir_x = static_cast<float>(u.x);
+    rh.ray.dir_y = static_cast<float>(u.y);
+    rh.ray.dir_z = static_cast<float>(u.z);
+    rh.ray.tnear = 0.0f;
+    const double far = max_distance * im.scale;
+    rh.ray.tfar = far < 1e30 ? std::nextafter(static_cast<float>(far), std::numeric_limits<float>::infinity())
+                             : std::numeric_limits<float>::infinity();
+    rh.ray.time = 0.0f;
+    rh.ray.mask = 0xffffffffu;
+    rh.ray.id = 0;
+    rh.ray.flags = 0;
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    rtcIntersect1(im.scene, &context, &rh);
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return miss;
+
+    // The crossing of the ray's line with the triangle's plane, in double, in the triangle's weights.
+    const int t = static_cast<int>(rh.hit.primID);
+    const Triangle& tri = im.triangles[t];
+    const Vec3 a = im.points[tri[0]], b = im.points[tri[1]], c = im.points[tri[2]];
+    const Vec3 p = origin - im.centre;
+    const Vec3 n = cross(b - a, c - a);
+    const double along = dot(n, u);
+    double w1 = rh.hit.u, w2 = rh.hit.v;  // Embree's, where the ray runs in the plane
+    if (along != 0) {
+        const Vec3 x = p + u * (dot(n, a - p) / along);
+        const double area2 = dot(n, n);
+        w1 = dot(cross(c - x, a - x), n) / area2;
+        w2 = dot(cross(a - x, b - x), n) / area2;
+    }
+    double w0 = 1 - w1 - w2;
+    w0 = std::max(w0, 0.0), w1 = std::max(w1, 0.0), w2 = std::max(w2, 0.0);
+    const double sum = w0 + w1 + w2;
+    if (!(sum > 0)) return miss;
+    ClosestHit hit;
+    hit.triangle = t;
+    hit.barycentric = {w0 / sum, w1 / sum, w2 / sum};
+    hit.point = a * hit.barycentric[0] + b * hit.barycentric[1] + c * hit.barycentric[2] + im.centre;
+    hit.distance = norm(hit.point - origin);
+    if (hit.distance > max_distance) return miss;
+    return hit;
+}
+
 std::vector<ClosestHit> ClosestPointIndex::query_all(const std::vector<Vec3>& points,
                                                      int threads) const {
     return query_points(points, nullptr, threads);

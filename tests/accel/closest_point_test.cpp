@@ -329,6 +329,58 @@ TEST(AccelClosestPoint, MovedIndexStillAnswers) {
     EXPECT_NEAR(third.query({0, 0, 3}).distance, 2.0, 1e-12);
 }
 
+// The nearest crossing of the ray from o along the unit u with any triangle of m, within far
+// (infinity if none), by a route of its own: each triangle's plane, then signed areas.
+double brute_force_ray(const Mesh& m, const Vec3& o, const Vec3& u, double far) {
+    double best = std::numeric_limits<double>::infinity();
+    for (const Triangle& t : m.triangles) {
+        const Vec3 a = m.points[t[0]], b = m.points[t[1]], c = m.points[t[2]];
+        const Vec3 n = cross(b - a, c - a);
+        if (dot(n, u) == 0) continue;
+        const double s = dot(n, a - o) / dot(n, u);
+        if (s < 0 || s > far) continue;
+        const Vec3 x = o + u * s;
+        if (dot(cross(b - a, x - a), n) >= 0 && dot(cross(c - b, x - b), n) >= 0 && dot(cross(a - c, x - c), n) >= 0)
+            best = std::min(best, s);
+    }
+    return best;
+}
+
+TEST(AccelClosestPoint, RaysHitWhereBruteForceDoes) {
+    const Mesh m = bumpy_sphere(24, 40, 1.0, 0.15);
+    const ClosestPointIndex index(m);
+    std::mt19937 rng(7);
+    std::normal_distribution<double> gauss(0.0, 1.0);
+    int hits = 0, misses = 0;
+    for (const Vec3& o : random_points(m, 2000, 0.3, 5)) {
+        Vec3 u{gauss(rng), gauss(rng), gauss(rng)};
+        u = u * (1 / norm(u));
+        const double far = 1.0;
+        const double expected = brute_force_ray(m, o, u, far);
+        const ClosestHit hit = index.first_hit(o, u * 3.0, far);  // the direction's length is ignored
+        if (!std::isfinite(expected)) {
+            // Embree may still report a hit at the very end of the range or on an edge that rounding
+            // put outside; the brute force's own range is exact.
+            if (hit.triangle >= 0) {
+                EXPECT_GT(hit.distance, far - 1e-6);
+            }
+            ++misses;
+            continue;
+        }
+        ASSERT_GE(hit.triangle, 0) << "ray from " << o.x << " " << o.y << " " << o.z;
+        ++hits;
+        EXPECT_NEAR(hit.distance, expected, 1e-6);
+        EXPECT_NEAR(norm(hit.point - (o + u * expected)), 0.0, 1e-6);
+        const Triangle& t = m.triangles[hit.triangle];
+        const auto& w = hit.barycentric;
+        EXPECT_NEAR(w[0] + w[1] + w[2], 1.0, 1e-14);
+        const Vec3 from_weights = m.points[t[0]] * w[0] + m.points[t[1]] * w[1] + m.points[t[2]] * w[2];
+        EXPECT_LT(norm(from_weights - hit.point), 1e-14);
+    }
+    EXPECT_GT(hits, 200);  // both kinds of ray are exercised
+    EXPECT_GT(misses, 200);
+}
+
 TEST(AccelClosestPoint, RejectsBadInput) {
     EXPECT_THROW(ClosestPointIndex(Mesh{}), InvalidInput);
     Mesh bad = bumpy_sphere(4, 6, 1.0, 0.0);
@@ -343,6 +395,9 @@ TEST(AccelClosestPoint, RejectsBadInput) {
     EXPECT_THROW(index.query({inf, 0, 0}), InvalidInput);
     EXPECT_THROW(index.query_all({{0, 0, 0}, {0, std::nan(""), 0}}), InvalidInput);
     EXPECT_THROW(index.query_all({{0, 0, 0}}, -1), InvalidInput);
+    EXPECT_THROW(index.first_hit({0, 0, 0}, {0, 0, 0}, 1.0), InvalidInput);
+    EXPECT_THROW(index.first_hit({0, 0, 0}, {1, 0, 0}, -1.0), InvalidInput);
+    EXPECT_THROW(index.first_hit({inf, 0, 0}, {1, 0, 0}, 1.0), InvalidInput);
 }
 
 TEST(AccelMortonOrder, OrderByCodeIsStdSortOfCodeIndexPairs) {

@@ -77,6 +77,15 @@ public:
                                              const std::vector<double>& max_distance,
                                              int threads = 0) const;
 
+    /// The mesh's first point on the ray from `origin` along `direction` (any length but zero),
+    /// at most `max_distance` away, or a hit with triangle -1 and an infinite distance if there is
+    /// none. Embree finds the triangle, in float; the point and its weights are then computed in
+    /// double on that triangle (clamped onto it where rounding puts them just outside). Which of
+    /// two triangles a ray through their common edge reports is Embree's choice. Thread-safe.
+    /// \throw InvalidInput if origin or direction is not finite, direction is zero, or
+    ///        max_distance is negative or NaN.
+    ClosestHit first_hit(const Vec3& origin, const Vec3& direction, double max_distance) const;
+
     /// Number of triangles indexed.
     int num_triangles() const;
 
