@@ -81,12 +81,30 @@ Mesh decimated(const Mesh& mesh, int vertices) {
         return true;
     };
     long long alive = static_cast<long long>(m.n_vertices());
-    std::vector<std::pair<double, int>> order;
-    while (alive > vertices) {
-        order.clear();
-        for (auto e : m.edges())
-            if (!m.status(e).deleted()) order.push_back({m.calc_edge_sqr_length(e), e.idx()});
-        std::sort(order.begin(), order.end());
+    // The live edges by (squared length, index). A round changes only the edges round the vertices
+    // it kept: the others stay in order, and those are sorted again and merged in.
+    std::vector<std::pair<double, int>> order, changed, merged;
+    for (auto e : m.edges()) order.push_back({m.calc_edge_sqr_length(e), e.idx()});
+    std::sort(order.begin(), order.end());
+    std::vector<char> moved(m.n_edges(), 0);
+    std::vector<OmTriMesh::VertexHandle> kept_vertices;
+    for (bool first = true; alive > vertices; first = false) {
+        if (!first) {
+            changed.clear();
+            for (auto v : kept_vertices)
+                for (auto e : m.ve_range(v))
+                    if (!moved[e.idx()]) moved[e.idx()] = 1, changed.push_back({m.calc_edge_sqr_length(e), e.idx()});
+            std::sort(changed.begin(), changed.end());
+            size_t live = 0;
+            for (const auto& entry : order)
+                if (!moved[entry.second] && !m.status(m.edge_handle(entry.second)).deleted()) order[live++] = entry;
+            order.resize(live);
+            merged.resize(order.size() + changed.size());
+            std::merge(order.begin(), order.end(), changed.begin(), changed.end(), merged.begin());
+            order.swap(merged);
+            for (const auto& entry : changed) moved[entry.second] = 0;
+        }
+        kept_vertices.clear();
         std::vector<char> locked(m.n_vertices(), 0);
         long long collapsed = 0;
         for (const auto& [length, index] : order) {
@@ -107,6 +125,7 @@ Mesh decimated(const Mesh& mesh, int vertices) {
             m.set_point(kept, mid);
             locked[kept.idx()] = 1;
             for (auto w : m.vv_range(kept)) locked[w.idx()] = 1;
+            kept_vertices.push_back(kept);
             --alive, ++collapsed;
         }
         if (collapsed == 0) break;
