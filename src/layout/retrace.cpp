@@ -245,20 +245,50 @@ private:
     std::vector<char> made_;
 };
 
+// The triangle to the left of each directed edge of a mesh, through each vertex's outgoing edges
+// in compressed rows (no hashing: the cut meshes have millions of edges).
+class LeftOf {
+public:
+    explicit LeftOf(const Mesh& m) : start_(m.points.size() + 1, 0) {
+        for (const Triangle& t : m.triangles)
+            for (int v : t) ++start_[v + 1];
+        for (size_t v = 1; v < start_.size(); ++v) start_[v] += start_[v - 1];
+        to_.resize(start_.back());
+        triangle_.resize(start_.back());
+        std::vector<int> at(start_.begin(), start_.end() - 1);
+        for (int f = 0; f < static_cast<int>(m.triangles.size()); ++f)
+            for (int k = 0; k < 3; ++k) {
+                const int a = m.triangles[f][k];
+                to_[at[a]] = m.triangles[f][(k + 1) % 3];
+                triangle_[at[a]++] = f;
+            }
+    }
+    // The triangle with the directed edge a -> b, or -1.
+    int operator()(int a, int b) const {
+        for (int i = start_[a]; i < start_[a + 1]; ++i)
+            if (to_[i] == b) return triangle_[i];
+        return -1;
+    }
+
+private:
+    std::vector<int> start_, to_, triangle_;
+};
+
 }  // namespace
 
-InputAdjacency::InputAdjacency(const Mesh& input) : vertex_faces(input.points.size()) {
+InputAdjacency::InputAdjacency(const Mesh& input) : vertex_faces(input.points.size()), mesh(input) {
     for (int f = 0; f < input.num_triangles(); ++f)
-        for (int k = 0; k < 3; ++k) {
-            vertex_faces[input.triangles[f][k]].push_back(f);
-            edge_faces[edge_key(input.triangles[f][k], input.triangles[f][(k + 1) % 3])].push_back(f);
-        }
+        for (int k = 0; k < 3; ++k) vertex_faces[input.triangles[f][k]].push_back(f);
 }
 
-const std::vector<int>& InputAdjacency::edge(int a, int b) const {
-    static const std::vector<int> none;
-    const auto it = edge_faces.find(edge_key(a, b));
-    return it == edge_faces.end() ? none : it->second;
+std::vector<int> InputAdjacency::edge(int a, int b) const {
+    std::vector<int> faces;
+    if (a == b) return faces;
+    for (int f : vertex_faces[a]) {
+        const Triangle& t = mesh.triangles[f];
+        if (t[0] == b || t[1] == b || t[2] == b) faces.push_back(f);
+    }
+    return faces;
 }
 
 std::string cut_input_along(const Mesh& input, const InputAdjacency& adjacency, const CurvesOnInput& c_in,
@@ -595,10 +625,7 @@ std::string cut_input_along(const Mesh& input, const InputAdjacency& adjacency, 
         old_patch[t] = patch_at(face_of[t], c3);
         if (old_patch[t] < 0) return "a new triangle lies over no old one";
     }
-    std::unordered_map<Key, std::vector<int>> edge_triangles;
-    for (int t = 0; t < nt; ++t)
-        for (int k = 0; k < 3; ++k)
-            edge_triangles[edge_key(mesh.triangles[t][k], mesh.triangles[t][(k + 1) % 3])].push_back(t);
+    const LeftOf left_of(mesh);
     std::vector<int> region(nt, -1);
     std::vector<std::vector<double>> votes;
     const int quads = like.cage.num_quads();
@@ -615,8 +642,8 @@ std::string cut_input_along(const Mesh& input, const InputAdjacency& adjacency, 
             for (int k = 0; k < 3; ++k) {
                 const int a = mesh.triangles[t][k], b = mesh.triangles[t][(k + 1) % 3];
                 if (on_edge_path.count(edge_key(a, b))) continue;
-                for (int u : edge_triangles[edge_key(a, b)])
-                    if (region[u] < 0) region[u] = rg, stack.push_back(u);
+                const int u = left_of(b, a);
+                if (u >= 0 && region[u] < 0) region[u] = rg, stack.push_back(u);
             }
         }
     }
@@ -638,10 +665,15 @@ std::string cut_input_along(const Mesh& input, const InputAdjacency& adjacency, 
     auto directed = [](int a, int b) {
         return (static_cast<Key>(a) << 32) | static_cast<Key>(static_cast<std::uint32_t>(b));
     };
-    std::unordered_map<Key, int> triangle_of;  // directed edge -> the triangle it bounds
-    for (int t = 0; t < static_cast<int>(mesh.triangles.size()); ++t)
-        for (int k = 0; k < 3; ++k)
-            triangle_of[directed(mesh.triangles[t][k], mesh.triangles[t][(k + 1) % 3])] = t;
+    // The triangle a directed edge bounds: left_of() for the triangles as they were, `changed` for
+    // the edges of those split since.
+    std::vector<char> split(mesh.triangles.size(), 0);
+    std::unordered_map<Key, int> changed;
+    auto triangle_of = [&](int a, int b) {
+        if (const auto it = changed.find(directed(a, b)); it != changed.end()) return it->second;
+        const int t = left_of(a, b);
+        return t >= 0 && !split[t] ? t : -1;
+    };
     const int boundary_known = mesh.num_vertices();  // the midpoints below are on no layout edge
     std::unordered_map<Key, int> midpoint;
     for (int t = 0; t < static_cast<int>(mesh.triangles.size()); ++t)
@@ -649,9 +681,8 @@ std::string cut_input_along(const Mesh& input, const InputAdjacency& adjacency, 
             const int a = mesh.triangles[t][k], b = mesh.triangles[t][(k + 1) % 3];
             if (a >= boundary_known || b >= boundary_known) continue;
             if (on_edge_path.count(edge_key(a, b)) || !sides.share_a_path(a, b)) continue;
-            const auto across = triangle_of.find(directed(b, a));
-            if (across == triangle_of.end()) return "an edge with one triangle";
-            const int u = across->second;
+            const int u = triangle_of(b, a);
+            if (u < 0) return "an edge with one triangle";
             int ku = 0;
             while (mesh.triangles[u][ku] != b) ++ku;
             const int c = mesh.triangles[t][(k + 2) % 3], d = mesh.triangles[u][(ku + 2) % 3];
@@ -665,11 +696,13 @@ std::string cut_input_along(const Mesh& input, const InputAdjacency& adjacency, 
             mesh.triangles[u] = {b, mid, d};
             mesh.triangles.push_back({mid, a, d});
             patch.push_back(patch[u]);
-            triangle_of.erase(directed(a, b));
-            triangle_of.erase(directed(b, a));
+            changed.erase(directed(a, b));
+            changed.erase(directed(b, a));
+            split[t] = split[u] = 1;
+            split.resize(mesh.triangles.size(), 1);
             for (int s : {t, t2, u, u2})
                 for (int j = 0; j < 3; ++j)
-                    triangle_of[directed(mesh.triangles[s][j], mesh.triangles[s][(j + 1) % 3])] = s;
+                    changed[directed(mesh.triangles[s][j], mesh.triangles[s][(j + 1) % 3])] = s;
             k = -1;  // this triangle's edges again
         }
 

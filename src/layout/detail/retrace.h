@@ -6,10 +6,8 @@
 // keeps only the points where it passes from one input triangle to the next (and its corners and
 // the points where it meets other curves), and runs straight between them inside each triangle.
 
-#include <cstdint>
 #include <functional>
 #include <string>
-#include <unordered_map>
 #include <vector>
 
 #include "quadcage/core/mesh.h"
@@ -17,13 +15,14 @@
 
 namespace quadcage::layout::detail {
 
-/// The input triangles round each vertex and each edge of an input.
+/// The input triangles round each vertex and each edge of an input (which must outlive it).
 struct InputAdjacency {
     explicit InputAdjacency(const Mesh& input);
-    /// The triangles of edge ab (either order); none if it is not an edge.
-    const std::vector<int>& edge(int a, int b) const;
+    /// The triangles of edge ab (either order), in increasing order; none if it is not an edge.
+    std::vector<int> edge(int a, int b) const;
+    /// Per vertex, the triangles round it, in increasing order.
     std::vector<std::vector<int>> vertex_faces;
-    std::unordered_map<std::uint64_t, std::vector<int>> edge_faces;  ///< by edge_key()
+    const Mesh& mesh;
 };
 
 /// Layout curves located on an input's triangles, for cut_input_along().
