@@ -566,18 +566,19 @@ std::optional<QuadLayout> layout_on_proxy(const Mesh& input, const QuadLayoutOpt
     }
     const auto trace_start = Clock::now();
     QuadLayout out;
-    if (const std::string problem = detail::trace_from_proxy(input, made, &out); !problem.empty()) {
+    std::string how;
+    if (const std::string problem = detail::trace_from_proxy(input, made, &out, &how); !problem.empty()) {
         say("proxy: not carried onto the input (" + problem + "); building on the input itself");
         return std::nullopt;
     }
     detail::measure_quality(&out);
     out.seconds.cycles += decimation;
     out.seconds.curves += seconds_since(trace_start);
-    char line[200];
+    char line[256];
     std::snprintf(line, sizeof line,
-                  "proxy: carried onto the input (%d vertices added): patch area max/min %.3g, corner angle "
+                  "proxy: carried onto the input %s (%d vertices added): patch area max/min %.3g, corner angle "
                   "deviation %.1f deg; %.2f s in all",
-                  out.mesh.num_vertices() - out.input_vertices, out.quality.patch_area_max_over_min,
+                  how.c_str(), out.mesh.num_vertices() - out.input_vertices, out.quality.patch_area_max_over_min,
                   out.quality.corner_angle_mean_deviation_deg, seconds_since(start));
     say(line);
     const long long bound = vertices_added_bound(out.input_vertices, out.cage.num_corners());

@@ -915,9 +915,22 @@ constexpr double kOnInputEdge = 1e-9;
 bool walk_between(const Mesh& input, const InputAdjacency& adjacency, Frames& frame, std::vector<Vec3>& points,
                   std::vector<std::vector<int>>& place, int p, int q, std::vector<int>* crossed) {
     if (!shared(place[p], place[q]).empty()) return true;
-    // The triangle of p's that the way leaves p into.
-    int f = -1;
-    double best_in = -std::numeric_limits<double>::infinity();
+    // Where the way from P towards Q leaves triangle t (frame fr) forward, by more than rounding
+    // and not through the side it came in by: that side k and the fraction u along it; false if Q
+    // lies behind.
+    auto exit_of = [&](const Frame& fr, const Triangle& t, P2 P, P2 Q, int* k_out, double* u_out) {
+        double best_s = -std::numeric_limits<double>::infinity();
+        *k_out = -1;
+        for (int k = 0; k < 3; ++k) {
+            double s = 0, u = 0;
+            if (!meets_side(input, fr, t, k, P, Q, &s, &u)) continue;
+            if (u < -1e-9 || u > 1 + 1e-9 || !(s > 1e-9)) continue;
+            if (s > best_s) best_s = s, *u_out = u, *k_out = k;
+        }
+        return *k_out >= 0;
+    };
+    // The triangles of p's, those the way towards q leaves p into most first.
+    std::vector<std::pair<double, int>> starts;
     for (int g : place[p]) {
         const Frame& fr = frame(g);
         const Triangle& t = input.triangles[g];
@@ -925,49 +938,71 @@ bool walk_between(const Mesh& input, const InputAdjacency& adjacency, Frames& fr
         const double in = std::min({orient(fr.at(input.points[t[0]]), fr.at(input.points[t[1]]), x),
                                     orient(fr.at(input.points[t[1]]), fr.at(input.points[t[2]]), x),
                                     orient(fr.at(input.points[t[2]]), fr.at(input.points[t[0]]), x)});
-        if (in > best_in) best_in = in, f = g;
+        starts.push_back({-in, g});
     }
+    std::sort(starts.begin(), starts.end());
     const std::vector<int>& targets = place[q];
-    int from = p;  // where the way entered f
-    for (int step = 0; step < 64; ++step) {
-        if (std::find(targets.begin(), targets.end(), f) != targets.end()) return true;
-        const Frame& fr = frame(f);
-        const Triangle& t = input.triangles[f];
-        const P2 P = fr.at(points[from]), Q = fr.at(points[q]);
-        double best_s = -std::numeric_limits<double>::infinity(), best_u = 0;
-        int best_k = -1;
-        for (int k = 0; k < 3; ++k) {
-            double s = 0, u = 0;
-            if (!meets_side(input, fr, t, k, P, Q, &s, &u)) continue;
-            // Forward, by more than rounding: not the edge the way came in through (or lies on).
-            if (u < -1e-9 || u > 1 + 1e-9 || !(s > 1e-9)) continue;
-            if (s > best_s) best_s = s, best_u = u, best_k = k;
+    const size_t before = points.size(), crossed_before = crossed->size();
+    // Tried from each of p's triangles, in that order, while the first step finds no way forward.
+    for (const auto& [unused, first] : starts) {
+        int f = first;
+        int from = p;       // where the way entered f
+        Vec3 heading{};     // the way's direction in the triangle before f (zero in p's own)
+        bool forward = true;
+        for (int step = 0; step < 64; ++step) {
+            if (std::find(targets.begin(), targets.end(), f) != targets.end()) return true;
+            const Frame& fr = frame(f);
+            const Triangle& t = input.triangles[f];
+            const P2 P = fr.at(points[from]);
+            int k = -1;
+            double u = 0;
+            if (!exit_of(fr, t, P, fr.at(points[q]), &k, &u)) {
+                // Past a crease q can lie behind the side the way came in by, in this triangle's
+                // plane: the way then goes on straight, its heading unfolded across that side.
+                if (step == 0) {
+                    forward = false;
+                    break;
+                }
+                if (!exit_of(fr, t, P, P2{P.x + dot(heading, fr.e1), P.y + dot(heading, fr.e2)}, &k, &u)) return false;
+            }
+            if (u <= 1e-9 || u >= 1 - 1e-9) return false;  // through an input vertex
+            const int a = t[k], b = t[(k + 1) % 3];
+            const std::vector<int>& faces = adjacency.edge(a, b);
+            if (faces.size() != 2) return false;
+            const Vec3 exit = input.points[a] + (input.points[b] - input.points[a]) * u;
+            const int g = faces[0] == f ? faces[1] : faces[0];
+            // The heading in g: along the side as it was, and across it into g as far as it went
+            // across it out of f.
+            const Vec3 d = exit - points[from];
+            const Vec3 side = (input.points[b] - input.points[a]) * (1 / norm(input.points[b] - input.points[a]));
+            const Frame& fg = frame(g);
+            Vec3 into = cross(cross(fg.e1, fg.e2), side);
+            const Triangle& tg = input.triangles[g];
+            const int c = tg[0] != a && tg[0] != b ? tg[0] : tg[1] != a && tg[1] != b ? tg[1] : tg[2];
+            if (dot(into, input.points[c] - exit) < 0) into = into * -1.0;
+            heading = side * dot(d, side) + into * norm(d - side * dot(d, side));
+            from = static_cast<int>(points.size());
+            crossed->push_back(from);
+            points.push_back(exit);
+            place.push_back(faces);
+            f = g;
         }
-        if (best_k < 0) return false;
-        if (best_u <= 1e-9 || best_u >= 1 - 1e-9) return false;  // through an input vertex
-        const int a = t[best_k], b = t[(best_k + 1) % 3];
-        const std::vector<int>& faces = adjacency.edge(a, b);
-        if (faces.size() != 2) return false;
-        from = static_cast<int>(points.size());
-        crossed->push_back(from);
-        points.push_back(input.points[a] + (input.points[b] - input.points[a]) * best_u);
-        place.push_back(faces);
-        f = faces[0] == f ? faces[1] : faces[0];
+        if (forward) return false;
+        points.resize(before);
+        place.resize(before);
+        crossed->resize(crossed_before);
     }
     return false;
 }
 
-}  // namespace
+// How trace_from_proxy() carries the proxy's points onto the input.
+enum class Carry { ClosestPoint, AlongNormals };
 
-std::string trace_from_proxy(const Mesh& input, const QuadLayout& proxy, QuadLayout* out) {
+std::string carry_from_proxy(const Mesh& input, const InputAdjacency& adjacency,
+                             const accel::ClosestPointIndex& on_input, const QuadLayout& proxy, Carry how,
+                             QuadLayout* out) {
     const int nin = input.num_vertices();
-    for (const Triangle& t : input.triangles)
-        if (!(norm(cross(input.points[t[1]] - input.points[t[0]], input.points[t[2]] - input.points[t[0]])) >
-              0))
-            return "the input has a triangle of zero area";
-    const InputAdjacency adjacency(input);
     Frames frame(input);
-    const accel::ClosestPointIndex on_input(input);
     std::vector<Vec3> points = input.points;
     std::vector<std::vector<int>> place = adjacency.vertex_faces;
 
@@ -986,6 +1021,19 @@ std::string trace_from_proxy(const Mesh& input, const QuadLayout& proxy, QuadLay
     // The input's median edge length: the samples' spacing along the proxy's edges.
     const double input_edge = median_edge(input, nin);
     const double spacing = input_edge > 0 ? input_edge : 1.0;
+    const double proxy_edge = std::max(spacing, median_edge(proxy.mesh, proxy.input_vertices));
+    // How far along its normal a proxy point looks for the input, in the proxy's median edges.
+    constexpr double kRayReach = 2;
+    const double ray_limit = kRayReach * proxy_edge;
+    // The proxy's normals at its points (area-weighted), interpolated along its edges.
+    const std::vector<Vec3>& proxy_points = proxy.mesh.points;
+    std::vector<Vec3> proxy_normal(proxy_points.size());
+    for (const Triangle& t : proxy.mesh.triangles) {
+        const Vec3 n = cross(proxy_points[t[1]] - proxy_points[t[0]], proxy_points[t[2]] - proxy_points[t[0]]);
+        for (int v : t) proxy_normal[v] = proxy_normal[v] + n;
+    }
+    for (Vec3& n : proxy_normal)
+        if (const double l = norm(n); l > 0) n = n * (1 / l);
 
     // The proxy's points projected onto the input. A whole region of space (a normal cone) has its
     // closest point at an input vertex or on an input edge, and curves through it would meet there:
@@ -1013,8 +1061,35 @@ std::string trace_from_proxy(const Mesh& input, const QuadLayout& proxy, QuadLay
             if (inside(f, y + u * far)) return add_point(y + u * far, {f});
         return -1;
     };
-    auto project = [&](const Vec3& x) {
-        const accel::ClosestHit hit = on_input.query(x);
+    // Along the proxy's normals (Carry::AlongNormals), a point reaches the nearest input point on
+    // the line through x along n, within ray_limit, whose triangle faces the way n does. That map is
+    // continuous where the closest point is not (across a ridge seen from inside, or where a part
+    // is thinner than the proxy's distance from it). Where no such point is found, the closest
+    // point is taken.
+    auto input_normal = [&](int f) {
+        const Triangle& g = input.triangles[f];
+        return cross(input.points[g[1]] - input.points[g[0]], input.points[g[2]] - input.points[g[0]]);
+    };
+    auto along_normal = [&](const Vec3& x, const Vec3& n) {
+        accel::ClosestHit best;
+        best.distance = std::numeric_limits<double>::infinity();
+        if (!(norm(n) > 0)) return best;
+        // Each ray starts a little behind x, so a point on the input (a proxy point that is an
+        // input point, or lies in an input triangle's plane) finds the triangle it is in.
+        const Vec3 unit = n * (1 / norm(n));
+        const double behind = 1e-6 * proxy_edge;
+        for (const Vec3& direction : {unit, unit * -1.0}) {
+            accel::ClosestHit hit = on_input.first_hit(x - direction * behind, direction, ray_limit + behind);
+            if (hit.triangle < 0 || !(dot(input_normal(hit.triangle), n) > 0)) continue;
+            hit.distance = norm(hit.point - x);
+            if (hit.distance < best.distance) best = hit;
+        }
+        return best;
+    };
+    auto project = [&](const Vec3& x, const Vec3& n) {
+        accel::ClosestHit hit = on_input.query(x);
+        if (how == Carry::AlongNormals)
+            if (const accel::ClosestHit ray = along_normal(x, n); ray.triangle >= 0) hit = ray;
         const Triangle& t = input.triangles[hit.triangle];
         const std::array<double, 3>& w = hit.barycentric;
         int zeros = 0, zero = -1;
@@ -1077,14 +1152,14 @@ std::string trace_from_proxy(const Mesh& input, const QuadLayout& proxy, QuadLay
 
     // Samples along each proxy edge the curves use about an input edge apart (the median), each
     // walked to the next; where a walk is lost, the midpoint between its samples is projected too.
-    // Where nearby proxy points project far apart (across a ridge seen from inside, where the
-    // closest point jumps from one side to the other), the two are joined along input edges: the
+    // Where nearby proxy points land far apart (a ray that grazes the input, or one point carried
+    // along its normal and the next to its closest point), the two are joined along input edges: the
     // shortest way from a corner of the first's triangle to one of the second's, through input
     // vertices, if it is at most kBridge median edges of the proxy long (a longer jump is across a
     // part thinner than the proxy's triangles, and the way fails). The jumps grow with the
     // proxy's distance from the input, so with its edges, not the input's.
     constexpr double kBridge = 2;
-    const double bridge_limit = kBridge * std::max(spacing, median_edge(proxy.mesh, proxy.input_vertices));
+    const double bridge_limit = kBridge * proxy_edge;
     std::vector<std::vector<int>> neighbours;  // made if needed
     auto bridge = [&](int ia, int ib, std::vector<int>* chain) {
         if (neighbours.empty()) {
@@ -1127,8 +1202,11 @@ std::string trace_from_proxy(const Mesh& input, const QuadLayout& proxy, QuadLay
         chain->insert(chain->end(), path.rbegin(), path.rend());
         return true;
     };
-    std::function<bool(const Vec3&, int, const Vec3&, int, int, std::vector<int>*)> trace =
-        [&](const Vec3& A, int ia, const Vec3& B, int ib, int depth, std::vector<int>* chain) {
+    struct Sample {
+        Vec3 point, normal;
+    };
+    std::function<bool(const Sample&, int, const Sample&, int, int, std::vector<int>*)> trace =
+        [&](const Sample& A, int ia, const Sample& B, int ib, int depth, std::vector<int>* chain) {
             const size_t before = points.size();
             std::vector<int> crossed;
             if (walk_between(input, adjacency, frame, points, place, ia, ib, &crossed)) {
@@ -1138,16 +1216,15 @@ std::string trace_from_proxy(const Mesh& input, const QuadLayout& proxy, QuadLay
             points.resize(before);
             place.resize(before);
             if (depth == 0) return bridge(ia, ib, chain);
-            const Vec3 M = (A + B) * 0.5;
-            const int im = project(M);
+            const Sample M = {(A.point + B.point) * 0.5, (A.normal + B.normal) * 0.5};
+            const int im = project(M.point, M.normal);
             if (!trace(A, ia, M, im, depth - 1, chain)) return false;
             chain->push_back(im);
             return trace(M, im, B, ib, depth - 1, chain);
         };
-    const std::vector<Vec3>& proxy_points = proxy.mesh.points;
     std::vector<int> id(proxy_points.size(), -1);
     auto point_of = [&](int v) {
-        if (id[v] < 0) id[v] = project(proxy_points[v]);
+        if (id[v] < 0) id[v] = project(proxy_points[v], proxy_normal[v]);
         return id[v];
     };
     std::unordered_map<Key, std::vector<int>> chain_of;  // by proxy edge, from its lower vertex
@@ -1157,14 +1234,15 @@ std::string trace_from_proxy(const Mesh& input, const QuadLayout& proxy, QuadLay
         if (auto it = chain_of.find(key); it != chain_of.end()) return it->second;
         const int lo = std::min(a, b), hi = std::max(a, b);
         std::vector<int>& made = chain_of[key];
-        const Vec3 A = proxy_points[lo], B = proxy_points[hi];
-        const int samples = static_cast<int>(std::floor(norm(B - A) / spacing));
-        Vec3 from = A;
+        const Sample A = {proxy_points[lo], proxy_normal[lo]}, B = {proxy_points[hi], proxy_normal[hi]};
+        const int samples = static_cast<int>(std::floor(norm(B.point - A.point) / spacing));
+        Sample from = A;
         int at = point_of(lo);
         const int end = point_of(hi);
         for (int i = 1; i <= samples + 1 && problem.empty(); ++i) {
-            const Vec3 to = i <= samples ? A + (B - A) * (static_cast<double>(i) / (samples + 1)) : B;
-            const int next = i <= samples ? project(to) : end;
+            const double s = static_cast<double>(i) / (samples + 1);
+            const Sample to = i <= samples ? Sample{A.point + (B.point - A.point) * s, A.normal + (B.normal - A.normal) * s} : B;
+            const int next = i <= samples ? project(to.point, to.normal) : end;
             if (!trace(from, at, to, next, 8, &made)) problem = "a curve could not be followed onto the input";
             if (i <= samples) made.push_back(next);
             from = to, at = next;
@@ -1208,6 +1286,31 @@ std::string trace_from_proxy(const Mesh& input, const QuadLayout& proxy, QuadLay
         return hit.triangle < 0 ? -1 : proxy.triangle_patch[hit.triangle];
     };
     return cut_input_along(input, adjacency, curves, input.points, patch_at, proxy, out);
+}
+
+}  // namespace
+
+std::string trace_from_proxy(const Mesh& input, const QuadLayout& proxy, QuadLayout* out, std::string* how) {
+    for (const Triangle& t : input.triangles)
+        if (!(norm(cross(input.points[t[1]] - input.points[t[0]], input.points[t[2]] - input.points[t[0]])) >
+              0))
+            return "the input has a triangle of zero area";
+    const InputAdjacency adjacency(input);
+    const accel::ClosestPointIndex on_input(input);
+    // Each way folds the curves somewhere the other does not: the closest point where the copy is
+    // farther from a thin part or a sharp ridge than its width, the copy's normals where they
+    // converge faster than the input's (in a fillet, where a handle meets a body).
+    const std::string closest = carry_from_proxy(input, adjacency, on_input, proxy, Carry::ClosestPoint, out);
+    if (closest.empty()) {
+        if (how) *how = "at the closest points";
+        return "";
+    }
+    const std::string along = carry_from_proxy(input, adjacency, on_input, proxy, Carry::AlongNormals, out);
+    if (along.empty()) {
+        if (how) *how = "along the copy's normals";
+        return "";
+    }
+    return closest + " at the closest points, " + along + " along the copy's normals";
 }
 
 }  // namespace quadcage::layout::detail

@@ -104,6 +104,20 @@ TEST(TraceFromProxy, KeepsTheSurfaceAndThePatchesWhereTheCopyHadThem) {
         EXPECT_NEAR(area_out[q] / total_out, area_proxy[q] / total_proxy, 0.02) << "patch " << q;
 }
 
+// A copy whose triangles are wider than the handles are thick: the closest point on the input
+// jumps from one side of a handle to the other there, and the curves carried by it crossed. Carried
+// along the copy's normals, they stay apart.
+TEST(TraceFromProxy, CarriesACopyCoarserThanTheHandles) {
+    const Mesh copy = decimated(body(), 3000);
+    const QuadLayout proxy = build_quad_layout(copy);
+    QuadLayout out;
+    ASSERT_EQ(trace_from_proxy(body(), proxy, &out), "");
+    EXPECT_EQ(verify_quad_layout(out), "");
+    EXPECT_EQ(out.input_vertices, body().num_vertices());
+    EXPECT_EQ(out.cage.num_quads(), 10);
+    EXPECT_NEAR(surface_area(out.mesh), surface_area(body()), 1e-9 * surface_area(body()));
+}
+
 TEST(ProxyVertices, AnInputTooSmallForACopyGetsItsOwnLayout) {
     const Mesh input = shapes::torus(24, 12);
     QuadLayoutOptions with;

@@ -64,16 +64,20 @@ std::string cut_input_along(const Mesh& input, const InputAdjacency& adjacency, 
 std::string retrace_on_input(const Mesh& input, const QuadLayout& layout, QuadLayout* out);
 
 /// The layout `proxy` (built on a coarser copy of `input`, such as decimated() makes) carried onto
-/// `input`. Each point of its curves is projected to its closest point on the input; one that lands
-/// on an input vertex or edge (whose normal cone lands there whole) is moved off it into the
-/// triangle its offset points into. Its edges are sampled about a median input edge apart and each
-/// sample walked to the next across the input's triangles (midpoints projected where a walk is
-/// lost; a jump across a ridge joined along input edges, up to twice the proxy's median edge).
-/// Then cut_input_along(), each region taking the patch of the proxy triangles nearest it. The
-/// layout has the proxy's cage topology, genus and S-cycles, on the input's own triangles. Fails
-/// (returns why) where the projection folds the curves across each other or loses their way, or the
-/// result does not verify; returns "" and sets *out otherwise.
+/// `input`. Each point of its curves is carried to its closest point on the input; where the curves
+/// so carried fail, the whole is tried again with each point carried along the proxy's normal there
+/// (area-weighted at its vertices, interpolated along its edges) to the nearest input point on that
+/// line, within twice the proxy's median edge, whose triangle faces the same way (else its closest
+/// point). A point that lands on an input vertex or edge is moved off it into the triangle its
+/// offset points into. The proxy's edges are sampled about a median input edge apart and each
+/// sample walked to the next across the input's triangles, straight on across a crease where the
+/// next lies behind it (midpoints carried too where a walk is lost; a jump joined along input
+/// edges, up to twice the proxy's median edge). Then cut_input_along(), each region taking the
+/// patch of the proxy triangles nearest it. The layout has the proxy's cage topology, genus and
+/// S-cycles, on the input's own triangles. Fails (returns why, for both ways) where the carried
+/// curves cross or lose their way, or the result does not verify; returns "" and sets *out (and
+/// *how, if given: which way carried it) otherwise.
 /// \pre proxy is a verified layout; input is closed and manifold.
-std::string trace_from_proxy(const Mesh& input, const QuadLayout& proxy, QuadLayout* out);
+std::string trace_from_proxy(const Mesh& input, const QuadLayout& proxy, QuadLayout* out, std::string* how = nullptr);
 
 }  // namespace quadcage::layout::detail
