@@ -17,6 +17,7 @@
 #include "quadcage/core/shapes.h"
 #include "quadcage/core/validate.h"
 #include "quadcage/layout/quad_layout.h"
+#include "support/files.h"
 
 namespace quadcage::layout::detail {
 namespace {
@@ -104,18 +105,22 @@ TEST(TraceFromProxy, KeepsTheSurfaceAndThePatchesWhereTheCopyHadThem) {
         EXPECT_NEAR(area_out[q] / total_out, area_proxy[q] / total_proxy, 0.02) << "patch " << q;
 }
 
-// A copy whose triangles are wider than the handles are thick: the closest point on the input
-// jumps from one side of a handle to the other there, and the curves carried by it crossed. Carried
-// along the copy's normals, they stay apart.
-TEST(TraceFromProxy, CarriesACopyCoarserThanTheHandles) {
-    const Mesh copy = decimated(body(), 3000);
-    const QuadLayout proxy = build_quad_layout(copy);
+// skull (50k vertices) from a copy of 1,500: carried to their closest points, two of the curves
+// cross in an input triangle; carried along the copy's normals they do not, and the layout is the
+// input's own, verified.
+TEST(TraceFromProxy, TriesTheCopysNormalsWhereTheClosestPointsFold) {
+    if (!test::have_shared_meshes()) GTEST_SKIP() << "shared meshes not found in " << test::shared_meshes_dir();
+    const Mesh input = test::load_shared("skull.obj");
+    const QuadLayout proxy = build_quad_layout(decimated(input, 1500));
     QuadLayout out;
-    ASSERT_EQ(trace_from_proxy(body(), proxy, &out), "");
+    std::string how;
+    ASSERT_EQ(trace_from_proxy(input, proxy, &out, &how), "");
+    EXPECT_EQ(how, "along the copy's normals");
     EXPECT_EQ(verify_quad_layout(out), "");
-    EXPECT_EQ(out.input_vertices, body().num_vertices());
+    ASSERT_EQ(out.input_vertices, input.num_vertices());
+    for (int v = 0; v < input.num_vertices(); ++v) ASSERT_EQ(out.mesh.points[v], input.points[v]) << v;
     EXPECT_EQ(out.cage.num_quads(), 10);
-    EXPECT_NEAR(surface_area(out.mesh), surface_area(body()), 1e-9 * surface_area(body()));
+    EXPECT_NEAR(surface_area(out.mesh), surface_area(input), 1e-9 * surface_area(input));
 }
 
 TEST(ProxyVertices, AnInputTooSmallForACopyGetsItsOwnLayout) {
