@@ -182,6 +182,7 @@ void apply(const EmbeddingFlags& flags, layout::QuadLayoutOptions* options) {
     options->edge_embedding_cone_charts = flags.edge_embedding_cone_charts;
     options->edge_embedding_area_weight = flags.edge_embedding_area_weight;
     options->proxy_vertices = flags.proxy_vertices;
+    options->proxy_above = flags.proxy_above;
 }
 
 // The shortest of %.15g and %.17g that reads back as x.
@@ -223,6 +224,8 @@ std::vector<std::string> embedding_arguments(const EmbeddingFlags& flags) {
                     {"--edge-embedding-area-weight", exact_number(flags.edge_embedding_area_weight)});
     if (flags.proxy_vertices != defaults.proxy_vertices)
         args.insert(args.end(), {"--proxy-vertices", std::to_string(flags.proxy_vertices)});
+    if (flags.proxy_above != defaults.proxy_above)
+        args.insert(args.end(), {"--proxy-above", std::to_string(flags.proxy_above)});
     return args;
 }
 

@@ -47,8 +47,10 @@ struct EmbeddingFlags {
     double edge_embedding_cone_charts = quadcage::layout::QuadLayoutOptions{}.edge_embedding_cone_charts;
     /// --edge-embedding-area-weight W: the weight of an area term in the edge embedding's energy
     double edge_embedding_area_weight = quadcage::layout::QuadLayoutOptions{}.edge_embedding_area_weight;
-    /// --proxy-vertices N: build the layout on a copy decimated to N vertices (0: off)
+    /// --proxy-vertices N: build the layout on a copy decimated to N vertices (0: never)
     int proxy_vertices = quadcage::layout::QuadLayoutOptions{}.proxy_vertices;
+    /// --proxy-above M: only for inputs of more than M vertices
+    long long proxy_above = quadcage::layout::QuadLayoutOptions{}.proxy_above;
 };
 
 /// The flags as `layout`/`fit` arguments: only those that differ from the defaults.

@@ -35,6 +35,7 @@ std::string QuadLayoutOptions::validate() const {
     if (edge_embedding_iterations < 0)
         return "edge_embedding_iterations must be >= 0, got " + std::to_string(edge_embedding_iterations);
     if (proxy_vertices < 0) return "proxy_vertices must be >= 0, got " + std::to_string(proxy_vertices);
+    if (proxy_above < 0) return "proxy_above must be >= 0, got " + std::to_string(proxy_above);
     if (edge_embedding_max_vertices < 0)
         return "edge_embedding_max_vertices must be >= 0, got " + std::to_string(edge_embedding_max_vertices);
     if (!(edge_embedding_cone_charts >= 0) || !std::isfinite(edge_embedding_cone_charts))
@@ -509,7 +510,8 @@ QuadLayout build_layout_in_place(const Mesh& input, const QuadLayoutOptions& opt
         if (options.progress) options.progress(m);
     };
     // Built on a decimated copy and carried onto the input (retrace.cpp), if asked and it works.
-    if (options.proxy_vertices > 0 && input.num_vertices() > 2 * static_cast<long long>(options.proxy_vertices))
+    if (options.proxy_vertices > 0 && input.num_vertices() > 2 * static_cast<long long>(options.proxy_vertices) &&
+        input.num_vertices() > options.proxy_above)
         if (std::optional<QuadLayout> traced = layout_on_proxy(input, options, say)) return std::move(*traced);
     // The orthogonal system of cycles (orthogonal_system.cpp), on the input or a refined copy.
     const Cycles cycles = build_cycles(input, options);

@@ -127,15 +127,34 @@ TEST(ProxyVertices, AnInputTooSmallForACopyGetsItsOwnLayout) {
     const Mesh input = shapes::torus(24, 12);
     QuadLayoutOptions with;
     with.proxy_vertices = input.num_vertices() / 2;  // not more than twice as many vertices
+    with.proxy_above = 0;
     const QuadLayout a = build_quad_layout(input), b = build_quad_layout(input, with);
     EXPECT_EQ(a.mesh.points, b.mesh.points);
     EXPECT_EQ(a.mesh.triangles, b.mesh.triangles);
     EXPECT_EQ(a.triangle_patch, b.triangle_patch);
 }
 
+// proxy_above: an input of that many vertices is laid out on itself, one more and on the copy.
+TEST(ProxyVertices, OnlyInputsOfMoreThanProxyAboveVerticesUseTheCopy) {
+    const Mesh input = shapes::torus(24, 12);
+    for (const long long above : {static_cast<long long>(input.num_vertices()), input.num_vertices() - 1LL}) {
+        QuadLayoutOptions o;
+        o.proxy_vertices = 60;
+        o.proxy_above = above;
+        std::vector<std::string> said;
+        o.progress = [&said](const std::string& m) { said.push_back(m); };
+        const QuadLayout L = build_quad_layout(input, o);
+        EXPECT_EQ(verify_quad_layout(L), "");
+        const bool on_copy = std::any_of(said.begin(), said.end(),
+                                         [](const std::string& m) { return m.rfind("proxy: ", 0) == 0; });
+        EXPECT_EQ(on_copy, above < input.num_vertices()) << "proxy_above " << above;
+    }
+}
+
 TEST(ProxyVertices, BuildsOnTheCopyAndSaysSo) {
     QuadLayoutOptions o;
     o.proxy_vertices = 8000;
+    o.proxy_above = 0;
     std::vector<std::string> said;
     o.progress = [&said](const std::string& m) { said.push_back(m); };
     const QuadLayout L = build_quad_layout(body(), o);
@@ -153,6 +172,9 @@ TEST(ProxyVertices, NegativeIsRejected) {
     o.proxy_vertices = -1;
     EXPECT_NE(o.validate(), "");
     EXPECT_THROW(build_quad_layout(body(), o), InvalidInput);
+    QuadLayoutOptions above;
+    above.proxy_above = -1;
+    EXPECT_NE(above.validate(), "");
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# The layout built on a decimated copy (`--proxy-vertices N`) against the layout built on the input:
+# The layout built on a decimated copy (`--proxy-vertices N --proxy-above 0`) against the layout built
+# on the input (`--proxy-vertices 0`):
 # per mesh, `quadcage layout` both ways, with whether the copy's layout was carried onto the input
 # (else the reason it fell back), check_layout.py --quality on both, vertices added and wall
 # seconds. With --fit, then `quadcage fit` with the copy (tools/bench/fit_check_row.sh rows:
@@ -48,8 +49,8 @@ echo '|---|---|---|---:|---:|---:|---:|---|'
 for mesh in "${meshes[@]}"; do
   name=$(basename "${mesh%.*}")
   for way in input copy; do
-    flags=()
-    [ "$way" = copy ] && flags=(--proxy-vertices "$n")
+    flags=(--proxy-vertices 0)
+    [ "$way" = copy ] && flags=(--proxy-vertices "$n" --proxy-above 0)
     start=$(date +%s.%N)
     if ! "$qc" layout "$mesh" -o "$work/$way" "${flags[@]}" >"$work/log" 2>&1; then
       echo "| $name | $way | FAILED: $(tail -1 "$work/log") | | | | | |"
@@ -58,7 +59,7 @@ for mesh in "${meshes[@]}"; do
     secs=$(python3 -c "import sys; print('%.2f' % (float(sys.argv[2]) - float(sys.argv[1])))" "$start" "$(date +%s.%N)")
     copy=''
     if [ "$way" = copy ]; then
-      copy=$(grep -o 'proxy: carried onto the input\|proxy: [^:]*; building on the input itself\|proxy: not carried onto the input ([^)]*)' "$work/log" | head -1 | sed 's/^proxy: //' || true)
+      copy=$(grep -o 'proxy: carried onto the input [^(]*\|proxy: [^:]*; building on the input itself\|proxy: not carried onto the input ([^)]*)' "$work/log" | head -1 | sed 's/^proxy: //' || true)
       [ -z "$copy" ] && copy='not used (input too small)'
     fi
     echo "| $name | $way | $(quality "$work/$way" "$mesh") | $(added "$work/$way") | $secs | $copy |"
@@ -68,7 +69,7 @@ if [ "$fit" = 1 ]; then
   # shellcheck source=tools/bench/fit_check_row.sh
   . tools/bench/fit_check_row.sh
   echo
-  echo "fits with --proxy-vertices $n:"
+  echo "fits with --proxy-vertices $n --proxy-above 0:"
   fit_check_header
-  for mesh in "${meshes[@]}"; do fit_check_row "$(basename "${mesh%.*}")" "$mesh" "--proxy-vertices $n" no; done
+  for mesh in "${meshes[@]}"; do fit_check_row "$(basename "${mesh%.*}")" "$mesh" "--proxy-vertices $n --proxy-above 0" no; done
 fi

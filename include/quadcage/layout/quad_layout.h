@@ -106,13 +106,19 @@ struct QuadLayoutOptions {
     /// boot's Hausdorff distance rises (1.01e-2 -> 1.44e-2), so it is off by default.
     double edge_embedding_area_weight = 0;
     /// Build the layout on a copy of the input decimated to this many vertices (decimated():
-    /// shortest-edge collapses) and carry it onto the input (0: off, the default), >= 0; only where the input has more
-    /// than twice as many vertices. Every stage above runs on the copy; the curves are then projected
-    /// onto the input and followed across its triangles (the layout is on the input's own triangles,
-    /// as without it). Where the copy loses the genus, its layout fails, or the curves cannot be
-    /// carried over and verified, the layout is built on the input itself (the progress says why).
-    /// Experimental: the README's "A layout built on a decimated copy" has what it measured.
-    int proxy_vertices = 0;
+    /// shortest-edge collapses) and carry it onto the input (0: never), >= 0; only for inputs of
+    /// more than proxy_above vertices and more than twice this many. Every stage above runs on the
+    /// copy; the curves are then carried onto the input and followed across its triangles (the
+    /// layout is on the input's own triangles, as without it). Where the copy loses the genus, its
+    /// layout fails, or the curves cannot be carried over and verified, the layout is built on the
+    /// input itself (the progress says why). The README's "A layout built on a decimated copy" has
+    /// what it measured: on botijo split twice (658k vertices) 24.7 s instead of 120-220 s.
+    int proxy_vertices = 10000;
+    /// Inputs of at most this many vertices are laid out on themselves (see proxy_vertices), >= 0.
+    /// Below it, on the shared scans the copy's layouts fit with a larger Hausdorff distance
+    /// (skull: 1.18e-2 against 9.46e-3), so the copy is kept for inputs where the layout on the
+    /// input itself is slow.
+    long long proxy_above = 100000;
     /// Newton iterations of the global embedding optimisation (issue #20; 0: skip it), >= 0. The
     /// stage optimises one seamless map of the whole surface over the cage's unit squares
     /// (symmetric Dirichlet, corners as cones) and reports how evenly it spreads the surface area
