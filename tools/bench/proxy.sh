@@ -5,17 +5,19 @@
 # (else the reason it fell back), check_layout.py --quality on both, vertices added and wall
 # seconds. With --fit, then `quadcage fit` with the copy (tools/bench/fit_check_row.sh rows:
 # check_layout.py and check_fit.py). Reports; asserts nothing.
-#   tools/bench/proxy.sh [--fit] [--vertices N] [BUILD_DIR] [MESH...]
+#   tools/bench/proxy.sh [--fit] [--copy-only] [--vertices N] [BUILD_DIR] [MESH...]
 #     N  the copy's vertices (default 10000)
+#     --copy-only  skip the layout on the input (slow on inputs of hundreds of thousands of vertices)
 #     MESH...  default: the shared meshes of genus >= 2 and botijo split 1-to-4 twice
 set -euo pipefail
 here=$(pwd)
 cd "$(dirname "$0")/../.."
-fit=0 n=10000
+fit=0 n=10000 ways="input copy"
 while [ $# -gt 0 ]; do
   case "$1" in
     --fit) fit=1; shift ;;
     --vertices) n=$2; shift 2 ;;
+    --copy-only) ways=copy; shift ;;
     *) break ;;
   esac
 done
@@ -48,7 +50,7 @@ echo '| mesh | build | check_layout | area max/min | angle dev. (deg) | vertices
 echo '|---|---|---|---:|---:|---:|---:|---|'
 for mesh in "${meshes[@]}"; do
   name=$(basename "${mesh%.*}")
-  for way in input copy; do
+  for way in $ways; do
     flags=(--proxy-vertices 0)
     [ "$way" = copy ] && flags=(--proxy-vertices "$n" --proxy-above 0)
     start=$(date +%s.%N)
