@@ -27,12 +27,10 @@ qc=$build/quadcage
 [ -x "$qc" ] || { echo "no quadcage in $build" >&2; exit 2; }
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-meshes=()
-for m in "$@"; do case "$m" in /*) meshes+=("$m") ;; *) meshes+=("$here/$m") ;; esac; done
-if [ ${#meshes[@]} -eq 0 ]; then
-  for m in 3holes.off botijo.off eight.off fertility.off input_wheel.off boot.obj skull.obj; do
-    meshes+=("../shared/data/meshes/$m")
-  done
+# shellcheck source=tools/bench/mesh_list.sh
+. tools/bench/mesh_list.sh
+mesh_list "$here" "$@"
+if [ $# -eq 0 ]; then
   "$qc" subdivide ../shared/data/meshes/botijo.off -t 2 -o "$work/botijo_x16.ply" >/dev/null
   meshes+=("$work/botijo_x16.ply")
 fi

@@ -18,12 +18,10 @@ shift 2
 for q in "$a" "$b"; do [ -x "$q" ] || { echo "not a quadcage binary: $q" >&2; exit 2; }; done
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-meshes=()
-for m in "$@"; do case "$m" in /*) meshes+=("$m") ;; *) meshes+=("$here/$m") ;; esac; done
-if [ ${#meshes[@]} -eq 0 ]; then
-  for m in 3holes.off botijo.off eight.off fertility.off input_wheel.off boot.obj skull.obj; do
-    meshes+=("../shared/data/meshes/$m")
-  done
+# shellcheck source=tools/bench/mesh_list.sh
+. tools/bench/mesh_list.sh
+mesh_list "$here" "$@"
+if [ $# -eq 0 ]; then
   while read -r name args; do
     # shellcheck disable=SC2086
     "$a" generate $args -o "$work/$name.ply" >/dev/null
