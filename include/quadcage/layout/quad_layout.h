@@ -111,8 +111,9 @@ struct QuadLayoutOptions {
     /// copy; the curves are then carried onto the input and followed across its triangles (the
     /// layout is on the input's own triangles, as without it). Where the copy loses the genus, its
     /// layout fails, or the curves cannot be carried over and verified, the layout is built on the
-    /// input itself (the progress says why). The README's "A layout built on a decimated copy" has
-    /// what it measured: on botijo split twice (658k vertices) 24.7 s instead of 120-220 s.
+    /// input itself (the progress says why). The README's "A layout built on a decimated copy" and
+    /// "The copy's normals, and the copy for large inputs" have what they measured: botijo split
+    /// twice (658k vertices) in 22-25 s instead of 120-220 s.
     int proxy_vertices = 10000;
     /// Inputs of at most this many vertices are laid out on themselves (see proxy_vertices), >= 0.
     /// Below it, on the shared scans the copy's layouts fit with a larger Hausdorff distance
