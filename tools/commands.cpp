@@ -176,7 +176,10 @@ void apply(const EmbeddingFlags& flags, layout::QuadLayoutOptions* options) {
     options->smooth_edges = !flags.staircase_edges;
     options->s_cycles_from_necks = !flags.no_necks;
     options->split_long_edges = !flags.no_long_edge_splits;
-    if (!flags.choose_by_shape) options->score = fit::level1_fit_score();
+    if (!flags.choose_by_shape) {
+        options->score = fit::level1_fit_score();
+        options->tie_score = fit::level2_fit_score();
+    }
     options->edge_embedding_iterations = flags.edge_embedding;
     options->edge_embedding_max_vertices = flags.edge_embedding_max_vertices;
     options->edge_embedding_cone_charts = flags.edge_embedding_cone_charts;

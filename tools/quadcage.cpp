@@ -72,8 +72,10 @@ std::vector<CLI::Option*> add_embedding_flags(CLI::App* cmd, quadcage::cli::Embe
                "How the layout's S-cycles are chosen among those built (genus >= 2: the handle loops',\n"
                "Algorithm 1's, the necks'): fit (the default) keeps the one whose cage fits the mesh\n"
                "best at level 1 (relative RMS; a level-1 fit of each, 0.5-1.5 s on botijo, boot and\n"
-               "input_wheel); shape keeps a later one only when both its patch area max/min and corner\n"
-               "angle deviation are smaller")
+               "input_wheel), and where two are within 10% there, best at level 2 (2.6-10 s more in the\n"
+               "runs measured; README, \"Ties broken at level 2\"); shape keeps a later one only when\n"
+               "both its patch area max/min and corner angle deviation are smaller (as fit does where\n"
+               "the level-2 fits tie too)")
             ->check(CLI::IsMember({"fit", "shape"})));
     all.push_back(cmd->add_flag(
         "--staircase-edges", flags.staircase_edges,

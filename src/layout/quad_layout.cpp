@@ -328,10 +328,11 @@ struct Score {
 
 // Whether `candidate`, a layout of other S-cycles, is to be kept instead of `kept`. With
 // options.score the lower score wins (kept's is scored once: *kept_score holds it, and the
-// candidate's once it is kept); where there is none, where the scores differ by no more than
-// options.score_margin of kept's, or where scoring fails (InternalError), the candidate wins when
-// both its patch area max/min and its corner angle deviation are smaller. Says the figures, the
-// scores' time and the choice.
+// candidate's once it is kept); where the scores differ by no more than options.score_margin of
+// kept's, the lower options.tie_score wins by the same margin (both asked then, each time); where
+// there is none, where those tie too, or where scoring fails (InternalError), the candidate wins
+// when both its patch area max/min and its corner angle deviation are smaller. Says the figures,
+// the scores' time and the choice.
 bool candidate_is_better(const QuadLayout& kept, const QuadLayout& candidate, const std::string& kept_name,
                          const std::string& candidate_name, const QuadLayoutOptions& options, Score* kept_score,
                          const Say& say) {
@@ -357,8 +358,21 @@ bool candidate_is_better(const QuadLayout& kept, const QuadLayout& candidate, co
             if (decides) better = s < k;
             std::snprintf(line, sizeof line, "; scores %.4g and %.4g (%.1f s)%s", k, s,
                           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
-                          decides ? "" : ", too close to decide, so by those");
+                          decides ? "" : options.tie_score ? ", too close to decide" : ", too close to decide, so by those");
             why += line;
+            if (!decides && options.tie_score) {
+                // Within the margin the level-1 fits ranked the constructions' level-3 fits no
+                // better than chance (2 of 8 pairs); the finer score is taken only here, where it
+                // is needed, since it costs several times as much.
+                const auto tie_start = std::chrono::steady_clock::now();
+                const double tk = options.tie_score(kept), ts = options.tie_score(candidate);
+                const bool tie_decides = std::abs(ts - tk) > options.score_margin * tk;
+                if (tie_decides) better = ts < tk;
+                std::snprintf(line, sizeof line, "; finer scores %.4g and %.4g (%.1f s)%s", tk, ts,
+                              std::chrono::duration<double>(std::chrono::steady_clock::now() - tie_start).count(),
+                              tie_decides ? "" : ", too close again, so by those");
+                why += line;
+            }
         } catch (const InternalError& e) {  // the score's own failure: the rule chooses
             why += std::string("; not scored (") + e.what() + "), so by those";
         }

@@ -226,6 +226,31 @@ TEST(FitSurface, LevelOneFitScoreIsTheLevelOneRms) {
     EXPECT_THROW(level1_fit_score(bad), InvalidInput);
 }
 
+// level2_fit_score() (the tie-break of that choice): the relative RMS of the level-2 fit with the
+// given options, whatever their level, mode and progress, without extra rounds; finer than the
+// level-1 score.
+TEST(FitSurface, LevelTwoFitScoreIsTheLevelTwoRms) {
+    const layout::QuadLayout layout = test::cube_sphere_layout(8);
+    FitOptions o = fast_options();
+    o.level = 4;
+    o.mode = FitMode::Tolerance;
+    int said = 0;
+    o.progress = [&said](const std::string&) { ++said; };
+    const double s2 = level2_fit_score(o)(layout), s1 = level1_fit_score(o)(layout);
+    EXPECT_EQ(said, 0);
+    FitOptions two = fast_options();
+    two.level = 2;
+    two.extra_rounds = 0;
+    const FitResult r = fit_surface(layout, two);
+    ASSERT_EQ(r.levels.back().level, 2);
+    EXPECT_EQ(s2, r.levels.back().relative.rms);
+    EXPECT_GT(s2, 0);
+    EXPECT_LT(s2, s1);
+    FitOptions bad;
+    bad.outer_iterations = 0;
+    EXPECT_THROW(level2_fit_score(bad), InvalidInput);
+}
+
 TEST(FitSurface, TheDirectSolverEndsWhereCeresEnds) {
     // Both take one damped Gauss-Newton step per round; the direct solver factorises the normal
     // equations itself, with the analysis kept for the level. Rounding apart, the fits agree.

@@ -679,6 +679,57 @@ TEST(QuadLayoutSCycleChoice, AScoreChoosesAmongTheConstructions) {
     EXPECT_NE(rule_corners, corners);
 }
 
+// QuadLayoutOptions::tie_score breaks the ties the score leaves (values within score_margin): a tie
+// score that prefers the worst-balanced layout gets it, as a deciding score does; one whose values
+// are within the margin again, or none, leaves the rule's choice. It is asked only where the score
+// ties, of both layouts then.
+TEST(QuadLayoutSCycleChoice, ATieScoreBreaksTheScoresTies) {
+    shapes::HandleBodyOptions ho;
+    ho.handles = 3;
+    ho.in_a_row = true;
+    const Mesh input = shapes::body_with_handles(ho);
+    auto corners_of = [](const QuadLayout& L) {
+        std::vector<Vec3> corners;
+        for (int v : L.corner_vertex) corners.push_back(L.mesh.points[v]);
+        return corners;
+    };
+    // The layout a deciding score that prefers the worst balance keeps.
+    layout::QuadLayoutOptions deciding;
+    deciding.score = [](const QuadLayout& L) { return 1 / L.quality.patch_area_max_over_min; };
+    const std::vector<Vec3> worst = corners_of(build_quad_layout(input, deciding));
+    const std::vector<Vec3> by_rule = corners_of(build_quad_layout(input, layout::QuadLayoutOptions{}));
+    ASSERT_NE(worst, by_rule);  // else this shape tells the two apart by nothing
+
+    layout::QuadLayoutOptions tied;
+    tied.score = [](const QuadLayout&) { return 1.0; };  // every score ties
+    int tie_calls = 0;
+    tied.tie_score = [&tie_calls](const QuadLayout& L) {
+        ++tie_calls;
+        EXPECT_EQ(verify_quad_layout(L), "");
+        return 1 / L.quality.patch_area_max_over_min;
+    };
+    std::vector<std::string> said;
+    tied.progress = [&said](const std::string& m) { said.push_back(m); };
+    const QuadLayout broken = build_quad_layout(input, tied);
+    expect_valid_layout(broken, input, 3);
+    EXPECT_EQ(corners_of(broken), worst);
+    EXPECT_EQ(tie_calls, 4);  // both layouts, at each of the two choices
+    EXPECT_TRUE(says(said, "too close to decide; finer scores"));
+
+    // A tie score that ties too leaves the rule's choice.
+    tied.tie_score = [](const QuadLayout& L) { return 1 + 1e-3 / L.quality.patch_area_max_over_min; };
+    said.clear();
+    EXPECT_EQ(corners_of(build_quad_layout(input, tied)), by_rule);
+    EXPECT_TRUE(says(said, "too close again, so by those"));
+
+    // A deciding score leaves the tie score unasked.
+    deciding.tie_score = [](const QuadLayout&) -> double {
+        ADD_FAILURE() << "the tie score was asked where the score decided";
+        return 0;
+    };
+    EXPECT_EQ(corners_of(build_quad_layout(input, deciding)), worst);
+}
+
 // Plates of genus 9 and more: the handle annuli or the body annuli of the handle-loop S-cycles
 // found no room between close holes, and Algorithm 1's S-cycles took over; they wind round the
 // plate side by side, each T-shirt ring then squeezed along corridors between them and the mesh

@@ -337,9 +337,17 @@ constexpr int kScoreErrorSamples = 20000;
 /// Deterministic.
 std::function<double(const layout::QuadLayout&)> level1_fit_score(FitOptions options = {});
 
+/// A layout::QuadLayoutOptions::tie_score, for the choices the level-1 scores leave within their
+/// margin: the relative symmetric RMS of fit_surface() at level 2 with `options` (its level, mode
+/// and progress replaced, no extra rounds), with the fit's own points and samples, not the
+/// level-1 score's fewer. About 5 times the cost of a level-1 score (a level-1 fit, then a level-2
+/// one, at 4 times the points). Deterministic.
+std::function<double(const layout::QuadLayout&)> level2_fit_score(FitOptions options = {});
+
 /// Mesh in, layout + fitted cage + report out: build_quad_layout() then fit_surface(). Where
-/// layout_options.score is empty, the layout is chosen with level1_fit_score() (default options, as
-/// the CLI's `layout` and `fit` do, so both build the same layout). With default
+/// layout_options.score is empty, the layout is chosen with level1_fit_score() and its ties broken
+/// with level2_fit_score() (default options, as the CLI's `layout` and `fit` do, so both build the
+/// same layout). With default
 /// options but for fit_options.level, this is what `quadcage fit MESH --level K` computes for each
 /// component (fit::fit_mesh() in quadcage/fit/mesh_fit.h calls it on every component of a mesh;
 /// fit::fit_report() and layout::layout_report() make its reports). Deterministic as both stages are. Coordinates and absolute errors are in the mesh's units.

@@ -64,6 +64,14 @@ struct QuadLayoutOptions {
     /// their level-3 fits did; of 8 within 10%, 2 did (14 meshes: the README's "The S-cycles
     /// chosen by a level-1 fit").
     double score_margin = 0.1;
+    /// Where `score` leaves the choice to the rule (the two scores within score_margin of each
+    /// other), both layouts are scored again with this finer, costlier measure, and it decides
+    /// where those scores differ by more than score_margin; empty, or failing (InternalError): the
+    /// rule. fit::level2_fit_score() ranks by a level-2 fit (fit::fit_cage() and the CLI use it):
+    /// on a jittered copy of botijo the level-1 scores of the handle loops' and the necks' layouts
+    /// were 2% apart, the rule kept the handle loops', and its level-3 fit's Hausdorff distance was
+    /// 2.3e-2 against the target of 1e-2 (README, "Ties broken at level 2").
+    std::function<double(const QuadLayout&)> tie_score;
     int relax_sweeps = 3;  ///< Passes that move every layout edge to the middle of its two patches
                            ///< (0: keep the constructed routes), >= 0.
     int relax_corner_sweeps = 2;  ///< The first this many of those passes first move every corner
