@@ -324,12 +324,18 @@ struct Score {
         if (failure) std::rethrow_exception(failure);
         return *value;
     }
+    // options.tie_score(layout), computed once (its InternalError is thrown, not kept).
+    double tie_of(const QuadLayout& layout, const QuadLayoutOptions& options) {
+        if (!tie) tie = options.tie_score(layout);
+        return *tie;
+    }
+    std::optional<double> tie;
 };
 
 // Whether `candidate`, a layout of other S-cycles, is to be kept instead of `kept`. With
 // options.score the lower score wins (kept's is scored once: *kept_score holds it, and the
 // candidate's once it is kept); where the scores differ by no more than options.score_margin of
-// kept's, the lower options.tie_score wins by the same margin (both asked then, each time); where
+// kept's, the lower options.tie_score wins by the same margin (asked then, once a layout); where
 // there is none, where those tie too, or where scoring fails (InternalError), the candidate wins
 // when both its patch area max/min and its corner angle deviation are smaller. Says the figures,
 // the scores' time and the choice.
@@ -365,7 +371,7 @@ bool candidate_is_better(const QuadLayout& kept, const QuadLayout& candidate, co
                 // better than chance (2 of 8 pairs); the finer score is taken only here, where it
                 // is needed, since it costs several times as much.
                 const auto tie_start = std::chrono::steady_clock::now();
-                const double tk = options.tie_score(kept), ts = options.tie_score(candidate);
+                const double tk = kept_score->tie_of(kept, options), ts = candidate_score.tie_of(candidate, options);
                 const bool tie_decides = std::abs(ts - tk) > options.score_margin * tk;
                 if (tie_decides) better = ts < tk;
                 std::snprintf(line, sizeof line, "; finer scores %.4g and %.4g (%.1f s)%s", tk, ts,
