@@ -309,6 +309,7 @@ double seconds_after_cycles(const QuadLayout::Seconds& s) {
 // again: a score may take seconds).
 struct Score {
     std::optional<double> value;
+    std::optional<double> tie;  // options.tie_score's, once asked
     std::exception_ptr failure;
 
     // Computes it unless it was computed or failed before.
@@ -329,7 +330,6 @@ struct Score {
         if (!tie) tie = options.tie_score(layout);
         return *tie;
     }
-    std::optional<double> tie;
 };
 
 // Whether `candidate`, a layout of other S-cycles, is to be kept instead of `kept`. With
@@ -360,7 +360,11 @@ bool candidate_is_better(const QuadLayout& kept, const QuadLayout& candidate, co
             const double k = kept_score->get();
             candidate_score.of(candidate, options);
             const double s = candidate_score.get();
-            const bool decides = std::abs(s - k) > options.score_margin * k;
+            // Scores decide where they differ by more than the margin of the kept layout's.
+            const auto apart = [&options](double kept_value, double value) {
+                return std::abs(value - kept_value) > options.score_margin * kept_value;
+            };
+            const bool decides = apart(k, s);
             if (decides) better = s < k;
             std::snprintf(line, sizeof line, "; scores %.4g and %.4g (%.1f s)%s", k, s,
                           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
@@ -372,7 +376,7 @@ bool candidate_is_better(const QuadLayout& kept, const QuadLayout& candidate, co
                 // is needed, since it costs several times as much.
                 const auto tie_start = std::chrono::steady_clock::now();
                 const double tk = kept_score->tie_of(kept, options), ts = candidate_score.tie_of(candidate, options);
-                const bool tie_decides = std::abs(ts - tk) > options.score_margin * tk;
+                const bool tie_decides = apart(tk, ts);
                 if (tie_decides) better = ts < tk;
                 std::snprintf(line, sizeof line, "; finer scores %.4g and %.4g (%.1f s)%s", tk, ts,
                               std::chrono::duration<double>(std::chrono::steady_clock::now() - tie_start).count(),
