@@ -19,6 +19,47 @@ double surface_area(const Mesh& mesh) {
     return sum;
 }
 
+double folded_area_fraction(const Mesh& mesh) {
+    const int nt = mesh.num_triangles();
+    std::vector<Vec3> normal(nt);  // unit, or zero for a degenerate triangle
+    double total = 0;
+    for (int t = 0; t < nt; ++t) {
+        const Triangle& tri = mesh.triangles[t];
+        const Vec3& a = mesh.points[tri[0]];
+        const Vec3 n = cross(mesh.points[tri[1]] - a, mesh.points[tri[2]] - a);
+        const double len = norm(n);
+        total += len / 2;
+        if (len > 0) normal[t] = n / len;
+    }
+    if (!(total > 0)) return 0;
+    // Each edge once per triangle side, as (smaller vertex, larger vertex, triangle); sorted, the
+    // two sides of an edge used twice are neighbours.
+    struct Side {
+        int a, b, t;
+        bool operator<(const Side& o) const { return a != o.a ? a < o.a : b != o.b ? b < o.b : t < o.t; }
+    };
+    std::vector<Side> sides;
+    sides.reserve(3 * static_cast<size_t>(nt));
+    for (int t = 0; t < nt; ++t)
+        for (int k = 0; k < 3; ++k) {
+            const int u = mesh.triangles[t][k], v = mesh.triangles[t][(k + 1) % 3];
+            sides.push_back({std::min(u, v), std::max(u, v), t});
+        }
+    std::sort(sides.begin(), sides.end());
+    std::vector<char> folded(nt, 0);
+    for (size_t i = 0; i < sides.size();) {
+        size_t j = i;
+        while (j < sides.size() && sides[j].a == sides[i].a && sides[j].b == sides[i].b) ++j;
+        if (j - i == 2 && dot(normal[sides[i].t], normal[sides[i + 1].t]) < 0)
+            folded[sides[i].t] = folded[sides[i + 1].t] = 1;
+        i = j;
+    }
+    double on_folds = 0;
+    for (int t = 0; t < nt; ++t)
+        if (folded[t]) on_folds += triangle_area(mesh, t);
+    return on_folds / total;
+}
+
 BoundingBox bounding_box(const Mesh& mesh) {
     const double inf = std::numeric_limits<double>::infinity();
     BoundingBox box{{inf, inf, inf}, {-inf, -inf, -inf}};

@@ -77,6 +77,14 @@ struct BoundingBox {
 /// points gives the zero box.
 BoundingBox bounding_box(const Mesh& mesh);
 
+/// Share of the surface area on folds: triangles that meet a neighbour across an edge where the
+/// surface turns by more than 90 degrees (their normals point apart: dot < 0). On a fine
+/// tessellation of a smooth surface that is a place where the surface folds back on itself (a
+/// pleat); on a coarse mesh it is also a sharp crease of its own (a tetrahedron's edges). Edges not
+/// used by exactly two triangles, and degenerate triangles, count as no fold. 0 for an empty mesh.
+/// Indices must be valid.
+double folded_area_fraction(const Mesh& mesh);
+
 /// One 1-to-4 midpoint split of every triangle: the same surface (points stay in place, new points at
 /// edge midpoints), 4x the triangles. Used to make large inputs for benchmarks. Indices must be valid.
 Mesh subdivide_midpoint(const Mesh& mesh);
