@@ -158,8 +158,12 @@ void print_fit_summary(const fit::MeshFit& result, const fit::MeshFitReport& wri
         std::printf("%s  %s\n", tag.c_str(), fit.message.c_str());
         const fit::TessellationChoice& t = *r.fit.limit_tessellation;
         const double rms = fit.levels.back().absolute.rms;
-        std::printf("%s  limit.ply: %lld triangles (tessellation error %.2g of the RMS)\n", tag.c_str(), t.triangles,
+        std::printf("%s  limit.ply: %lld triangles (tessellation error %.2g of the RMS)", tag.c_str(), t.triangles,
                     rms > 0 ? t.rms_error / rms : 0.0);
+        if (t.folded_area_fraction >= 0)
+            std::printf("; %.2f%% of its area on folds (the input: %.2f%%), %.2f%% turned over against the input",
+                        100 * t.folded_area_fraction, 100 * t.input_folded_area_fraction, 100 * t.inverted_area_fraction);
+        std::printf("\n");
     }
 }
 

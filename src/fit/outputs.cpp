@@ -113,8 +113,8 @@ void write_polygon_obj(const std::string& path, const PolygonMesh& mesh) {
                                                              " vertices, " + std::to_string(mesh.num_faces()) + " faces"));
 }
 
-void write_limit_ply(const std::string& path, const Mesh& input, const FittedSurface& surface,
-                     const TessellationChoice& choice, int threads) {
+TessellationChoice write_limit_ply(const std::string& path, const Mesh& input, const FittedSurface& surface,
+                                   const TessellationChoice& choice, int threads) {
     const subdiv::LimitTessellation tess = surface.limit().tessellate(std::max(1, choice.segments));
     const accel::ClosestPointIndex index(input);
     const std::vector<accel::ClosestHit> hits = index.query_all(tess.mesh.points, threads);
@@ -123,6 +123,26 @@ void write_limit_ply(const std::string& path, const Mesh& input, const FittedSur
     extras.vertex_floats.resize(hits.size());
     for (size_t i = 0; i < hits.size(); ++i) extras.vertex_floats[i] = static_cast<float>(hits[i].distance);
     write_ply(path, tess.mesh, extras);
+    TessellationChoice out = choice;
+    out.folded_area_fraction = folded_area_fraction(tess.mesh);
+    out.input_folded_area_fraction = folded_area_fraction(input);
+    const Mesh& m = tess.mesh;
+    std::vector<Vec3> input_normal(input.num_triangles());  // not unit: only signs are read
+    for (int t = 0; t < input.num_triangles(); ++t) {
+        const Triangle& tri = input.triangles[t];
+        input_normal[t] = cross(input.points[tri[1]] - input.points[tri[0]], input.points[tri[2]] - input.points[tri[0]]);
+    }
+    double total = 0, inverted = 0;
+    for (const Triangle& tri : m.triangles) {
+        const Vec3 n = cross(m.points[tri[1]] - m.points[tri[0]], m.points[tri[2]] - m.points[tri[0]]);
+        const double area = norm(n) / 2;
+        total += area;
+        bool against = true;
+        for (int v : tri) against = against && dot(n, input_normal[hits[v].triangle]) < 0;
+        if (against) inverted += area;
+    }
+    out.inverted_area_fraction = total > 0 ? inverted / total : 0;
+    return out;
 }
 
 void write_deviation_ply(const std::string& path, const Mesh& input, const FittedSurface& surface, int threads) {
@@ -174,7 +194,7 @@ FitOutputs write_fit_files(const std::string& dir, const Mesh& input, const FitR
     out.files.push_back(cage);
     out.tessellation = choose_tessellation(result.surface, result.levels.back().absolute.rms, ply_options,
                                            result.levels.back().diagonal);
-    write_limit_ply(limit, input, result.surface, out.tessellation, ply_options.threads);
+    out.tessellation = write_limit_ply(limit, input, result.surface, out.tessellation, ply_options.threads);
     out.files.push_back(limit);
     write_deviation_ply(deviation, input, result.surface, ply_options.threads);
     out.files.push_back(deviation);

@@ -87,6 +87,9 @@ void put_fit_report(const FitReport& r, Json& report) {
         j["max_error"] = t.max_error;
         j["target"] = t.target;
         j["met"] = t.met;
+        if (t.folded_area_fraction >= 0) j["folded_area_fraction"] = t.folded_area_fraction;
+        if (t.input_folded_area_fraction >= 0) j["input_folded_area_fraction"] = t.input_folded_area_fraction;
+        if (t.inverted_area_fraction >= 0) j["inverted_area_fraction"] = t.inverted_area_fraction;
         report["limit_tessellation"] = j;
     }
 }

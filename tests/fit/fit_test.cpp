@@ -416,6 +416,14 @@ void check_outputs_against_checker(const layout::QuadLayout& layout, int level, 
     EXPECT_EQ(deviation.num_vertices(), layout.mesh.num_vertices());
     const Mesh limit = read_mesh((dir / "limit.ply").string());
     EXPECT_EQ(limit.num_triangles(), out.tessellation.triangles);
+    // The folds of the surface written and of the input, in the report; a smooth shape fitted
+    // through a layout of even patches has none, and neither has its input.
+    EXPECT_NEAR(out.tessellation.folded_area_fraction, folded_area_fraction(limit), 1e-9);
+    EXPECT_EQ(report["limit_tessellation"]["folded_area_fraction"].get<double>(), out.tessellation.folded_area_fraction);
+    EXPECT_EQ(report["limit_tessellation"]["input_folded_area_fraction"].get<double>(), 0.0);
+    EXPECT_EQ(out.tessellation.folded_area_fraction, 0.0) << name;
+    EXPECT_EQ(report["limit_tessellation"]["inverted_area_fraction"].get<double>(), out.tessellation.inverted_area_fraction);
+    EXPECT_EQ(out.tessellation.inverted_area_fraction, 0.0) << name;
 
     const std::string why = python_unavailable();
     if (!why.empty()) GTEST_SKIP() << "check_fit.py not run: " << why;
@@ -459,6 +467,23 @@ TEST(FitOutputs, TessellationErrorFallsQuadratically) {
     EXPECT_LE(d.max_error, bounded.max_error_relative * diagonal);
     EXPECT_GT(d.segments, c.segments);
     EXPECT_THROW(choose_tessellation(r.surface, a.rms_error, bounded), InvalidInput);  // no diagonal
+}
+
+// The turned-over share compares the surface's orientation with the input's at the closest input
+// points: against the same input with every triangle turned over, all of a good fit counts.
+TEST(FitOutputs, TurnedOverAreaIsMeasuredAgainstTheInputsOrientation) {
+    const layout::QuadLayout layout = test::cube_sphere_layout(8);
+    FitOptions o = fast_options();
+    o.level = 1;
+    const FitResult r = fit_surface(layout, o);
+    Mesh turned = layout.mesh;
+    for (Triangle& t : turned.triangles) std::swap(t[1], t[2]);
+    const FitOutputs same = write_fit_outputs((scratch_dir() / "same").string(), layout.mesh, r, o);
+    const FitOutputs against = write_fit_outputs((scratch_dir() / "turned").string(), turned, r, o);
+    EXPECT_EQ(same.tessellation.inverted_area_fraction, 0.0);
+    EXPECT_EQ(against.tessellation.inverted_area_fraction, 1.0);
+    // Folds are the surface's own: the same both ways.
+    EXPECT_EQ(same.tessellation.folded_area_fraction, against.tessellation.folded_area_fraction);
 }
 
 TEST(FitOutputs, QuadObjAndReportWithoutTessellation) {

@@ -35,6 +35,15 @@ struct TessellationChoice {
     double max_error = 0;      ///< Largest such distance seen.
     double target = 0;         ///< The RMS it had to stay below (absolute).
     bool met = false;          ///< rms_error <= target (false if max_triangles stopped the refinement).
+    /// Set by write_fit_files() (else -1): folded_area_fraction() of the tessellation written, the
+    /// share of the fitted surface on the creases where it folds back on itself (pleats a fit can
+    /// leave close to the input, where its distances do not see them) ...
+    double folded_area_fraction = -1;
+    double input_folded_area_fraction = -1;  ///< ... and of the input mesh, whose own sharp creases count too.
+    /// Set by write_fit_files() (else -1): the share of the tessellation's area turned over against
+    /// the input: triangles whose normal points against the normal of the input's triangle at the
+    /// closest input point of each of their three vertices (a pleat's middle sheet, whole).
+    double inverted_area_fraction = -1;
 };
 
 /// The error of a tessellation with `segments` per side: distance between the flat triangles and
@@ -60,9 +69,10 @@ void write_quad_obj(const std::string& path, const subdiv::QuadMesh& mesh);
 void write_polygon_obj(const std::string& path, const PolygonMesh& mesh);
 
 /// Writes the tessellation of `choice.segments` of the surface as binary PLY with the per-vertex
-/// `float distance` to `input` (exact closest point).
+/// `float distance` to `input` (exact closest point); returns `choice` with folded_area_fraction,
+/// input_folded_area_fraction and inverted_area_fraction set.
 /// \throw InvalidInput if the file cannot be written or the input mesh is invalid.
-void write_limit_ply(const std::string& path, const Mesh& input, const FittedSurface& surface,
+TessellationChoice write_limit_ply(const std::string& path, const Mesh& input, const FittedSurface& surface,
                      const TessellationChoice& choice, int threads = 0);
 
 /// Writes `input` as binary PLY with the per-vertex `float distance` to the fitted limit surface.
