@@ -119,6 +119,7 @@ fit::FitOptions fit_options_of(const FitCommandOptions& o) {
     fit_options.outer_iterations = o.rounds;
     fit_options.extra_rounds = o.extra_rounds;
     fit_options.tangential_weight = o.tangential_weight;
+    fit_options.turned_over_weight = o.turned_over_weight;
     fit_options.surface_feature_feet = !o.plane_feet_only;
     if (const std::string e = fit_options.validate(); !e.empty()) throw InvalidInput("fit: " + e);
     return fit_options;

@@ -75,6 +75,7 @@ struct FitCommandOptions {
     int rounds = fit::FitOptions{}.outer_iterations;  ///< --rounds N: solve / correspondence rounds a level.
     int extra_rounds = fit::FitOptions{}.extra_rounds;  ///< --extra-rounds N: fit::FitOptions::extra_rounds.
     double tangential_weight = fit::FitOptions{}.tangential_weight;  ///< --tangential-weight W: fit::FitOptions::tangential_weight.
+    double turned_over_weight = fit::FitOptions{}.turned_over_weight;  ///< --turned-over-weight W: fit::FitOptions::turned_over_weight.
     double limit_max_error = 0;     ///< --limit-max-error R: limit.ply within R of the diagonal everywhere measured.
     bool plane_feet_only = false;   ///< --plane-feet-only: fit::FitOptions::surface_feature_feet off.
     std::string step;         ///< --step FILE: also export the fitted surface as a STEP solid.

@@ -94,6 +94,7 @@ std::string FitOptions::validate() const {
         return "smoothness weights must be finite and >= 0";
     if (!(tangential_weight >= 0 && tangential_weight <= 1)) return "tangential_weight must be in [0, 1]";
     if (!finite_nonneg(surface_to_input_weight)) return "surface_to_input_weight must be finite and >= 0";
+    if (!finite_nonneg(turned_over_weight)) return "turned_over_weight must be finite and >= 0";
     if (!(huber_scale > 0) || !std::isfinite(huber_scale)) return "huber_scale must be positive and finite";
     if (area_samples < 0) return "area_samples must be >= 0";
     if (max_data_points < 1) return "max_data_points must be >= 1";
@@ -612,9 +613,13 @@ LevelReport fit_level(const Context& ctx, const LevelTopology& topo, subdiv::Lim
             const Vec3 r = e.position - state.data[i].p;
             if (mu < 1 && dot(r, r) <= near2) data_normal[i] = e.normal;
         });
+        // S_u and S_v of the samples, for the turned-over term only.
+        const bool turned_over_term = o.turned_over_weight > 0 && o.surface_to_input_weight > 0;
+        std::vector<Vec3> surf_du_now(turned_over_term ? ns : 0), surf_dv_now(turned_over_term ? ns : 0);
         parallel_for(ns, ctx.threads, [&](int i) {
             const subdiv::LimitPoint e = surface_point(i, state.vars);
             surf_pos[i] = e.position;
+            if (turned_over_term) surf_du_now[i] = e.du, surf_dv_now[i] = e.dv;
             surf_weight[i] = norm(cross(e.du, e.dv));
         });
         // Each surface sample stands for the limit-surface area around it (|S_u x S_v| times the
@@ -703,6 +708,34 @@ LevelReport fit_level(const Context& ctx, const LevelTopology& topo, subdiv::Lim
             surf_rows[slot] = scaled(std::move(rows), surf_pos[i], surf_weight[i]);
             surf_used[slot] = 1;
         });
+        // The turned-over term (FitOptions::turned_over_weight): one row for each surface sample
+        // where the surface turns over against the input, sum_a (wu_a g_u + wv_a g_v) . x_a - b
+        // over its face's control points (wu, wv: the weights of S_u and S_v), by the samples'
+        // slots as surf_rows.
+        struct TurnedOverRow {
+            Vec3 g_u, g_v;
+            double b = 0;
+            bool on = false;
+        };
+        std::vector<TurnedOverRow> turned_rows(turned_over_term ? ns : 0);
+        parallel_for(static_cast<int>(turned_rows.size()), ctx.threads, [&](int i) {
+            const Triangle& tri = ctx.mesh.triangles[hits[i].triangle];
+            const Vec3& a = ctx.mesh.points[tri[0]];
+            const Vec3 n = cross(ctx.mesh.points[tri[1]] - a, ctx.mesh.points[tri[2]] - a);
+            const Vec3 &du = surf_du_now[i], &dv = surf_dv_now[i];
+            const double ln = norm(n), lu = norm(du), lv = norm(dv);
+            if (!(ln > 0) || !(lu > 0) || !(lv > 0)) return;
+            const Vec3 unit = n / ln;
+            const double sine = dot(cross(du, dv), unit) / (lu * lv);
+            if (sine >= 0) return;
+            // d sine = (dS_u . (S_v x n) + dS_v . (n x S_u)) / (|S_u| |S_v|), scaled.
+            const double k = o.turned_over_weight * ctx.diagonal * std::sqrt(surf_weight[i]) / (lu * lv);
+            // At the current control points the row's sum is g_u . S_u + g_v . S_v, twice the
+            // scaled sine (S_u x S_v is quadratic in them); b makes the residual the scaled sine.
+            TurnedOverRow r{cross(dv, unit) * k, cross(unit, du) * k, 0, true};
+            r.b = dot(r.g_u, du) + dot(r.g_v, dv) - o.turned_over_weight * ctx.diagonal * std::sqrt(surf_weight[i]) * sine;
+            turned_rows[direct ? surf_packed->slot_of[i] : i] = r;
+        });
         if (direct) {
             // The rows of each face's points, then the normal equations (design: normal_equations.h).
             const double lap2 = lambda > 0 ? lambda / laplacian.size() : 0.0;
@@ -729,6 +762,8 @@ LevelReport fit_level(const Context& ctx, const LevelTopology& topo, subdiv::Lim
                     int rows = 0;
                     for (int q = d0; q < d1; ++q) rows += data_rows[q].rows;
                     for (int q = s0; q < s1; ++q) rows += surf_used[q] ? surf_rows[q].rows : 0;
+                    if (!turned_rows.empty())
+                        for (int q = s0; q < s1; ++q) rows += turned_rows[q].on ? 1 : 0;
                     if (rows == 0) return;
                     Eigen::MatrixXd j(rows, 3 * m);
                     Eigen::VectorXd b(rows);
@@ -744,6 +779,16 @@ LevelReport fit_level(const Context& ctx, const LevelTopology& topo, subdiv::Lim
                         put(data_rows[q], data_packed->weights.data() + data_packed->at[q]);
                     for (int q = s0; q < s1; ++q)
                         if (surf_used[q]) put(surf_rows[q], surf_packed->weights.data() + surf_packed->at[q]);
+                    if (!turned_rows.empty())
+                        for (int q = s0; q < s1; ++q) {
+                            const TurnedOverRow& t = turned_rows[q];
+                            if (!t.on) continue;
+                            const double* wu = surf_du->weights.data() + surf_du->at[q];
+                            const double* wv = surf_dv->weights.data() + surf_dv->at[q];
+                            for (int a = 0; a < m; ++a)
+                                for (int d = 0; d < 3; ++d) j(row, 3 * a + d) = wu[a] * t.g_u[d] + wv[a] * t.g_v[d];
+                            b(row++) = t.b;
+                        }
                     jtj.selfadjointView<Eigen::Upper>().rankUpdate(j.transpose());
                     jtb.noalias() = j.transpose() * b;
                 },
@@ -812,6 +857,22 @@ LevelReport fit_level(const Context& ctx, const LevelTopology& topo, subdiv::Lim
                 for (int v : group_vars[g]) blocks.push_back(&x[3 * v]);
                 problem.AddResidualBlock(compressed[g] ? compressed[g].release() : new detail::StencilGroupCost(std::move(groups[g])),
                                          nullptr, blocks);
+            }
+            for (int i = 0; i < static_cast<int>(turned_rows.size()); ++i) {
+                const TurnedOverRow& t = turned_rows[i];
+                if (!t.on) continue;
+                subdiv::LimitStencil st;
+                surface.stencil(s_params[i], &st);
+                const Combo cu = topo.compose(st.indices, st.du_weights), cv = topo.compose(st.indices, st.dv_weights);
+                QC_CHECK(cu.size() == cv.size(), "fit: S_u and S_v of one point use different control points");
+                std::vector<Vec3> coefficients(cu.size());
+                blocks.clear();
+                for (size_t a = 0; a < cu.size(); ++a) {
+                    QC_CHECK(cu[a].first == cv[a].first, "fit: S_u and S_v of one point use different control points");
+                    coefficients[a] = t.g_u * cu[a].second + t.g_v * cv[a].second;
+                    blocks.push_back(&x[3 * cu[a].first]);
+                }
+                problem.AddResidualBlock(detail::linear_row_cost(std::move(coefficients), t.b), nullptr, blocks);
             }
             if (lambda > 0) {
                 const double scale = std::sqrt(lambda / laplacian.size());

@@ -138,6 +138,33 @@ ceres::CostFunction* point_to_plane_cost(std::vector<double> weights, const Vec3
     return single(point_to_plane_rows(std::move(weights), q, n, scale));
 }
 
+namespace {
+class LinearRowCost final : public ceres::CostFunction {
+public:
+    LinearRowCost(std::vector<Vec3> c, double b) : c_(std::move(c)), b_(b) {
+        set_num_residuals(1);
+        for (size_t i = 0; i < c_.size(); ++i) mutable_parameter_block_sizes()->push_back(3);
+    }
+    bool Evaluate(double const* const* x, double* residuals, double** jacobians) const override {
+        double r = -b_;
+        for (size_t i = 0; i < c_.size(); ++i) r += c_[i].x * x[i][0] + c_[i].y * x[i][1] + c_[i].z * x[i][2];
+        residuals[0] = r;
+        if (jacobians)
+            for (size_t i = 0; i < c_.size(); ++i)
+                if (jacobians[i]) jacobians[i][0] = c_[i].x, jacobians[i][1] = c_[i].y, jacobians[i][2] = c_[i].z;
+        return true;
+    }
+
+private:
+    std::vector<Vec3> c_;
+    double b_;
+};
+}  // namespace
+
+ceres::CostFunction* linear_row_cost(std::vector<Vec3> coefficients, double b) {
+    return new LinearRowCost(std::move(coefficients), b);
+}
+
 ceres::CostFunction* smoothness_cost(std::vector<double> weights, double scale) {
     const std::array<double, 9> a = {scale, 0, 0, 0, scale, 0, 0, 0, scale};
     return single({std::move(weights), 3, a, {0, 0, 0}});

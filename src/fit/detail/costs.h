@@ -64,6 +64,11 @@ ceres::CostFunction* tangent_weighted_cost(std::vector<double> weights, const Ve
 /// scale * n . (S - q): signed distance of S to the plane through q with unit normal n.
 ceres::CostFunction* point_to_plane_cost(std::vector<double> weights, const Vec3& q, const Vec3& n, double scale);
 
+/// One residual sum_i c_i . x_i - b with a 3-vector c_i per control point: a linearised scalar
+/// function of the control points that is not of one weighted sum (the fit's turned-over term,
+/// which reads the surface's two derivatives at a point).
+ceres::CostFunction* linear_row_cost(std::vector<Vec3> coefficients, double b);
+
 /// scale * sum w_i x_i with weights summing to 0: a Laplacian of the control net (x_i minus the mean
 /// of its neighbours) or any other linear smoothness measure.
 ceres::CostFunction* smoothness_cost(std::vector<double> weights, double scale);
