@@ -729,11 +729,12 @@ LevelReport fit_level(const Context& ctx, const LevelTopology& topo, subdiv::Lim
             const double sine = dot(cross(du, dv), unit) / (lu * lv);
             if (sine >= 0) return;
             // d sine = (dS_u . (S_v x n) + dS_v . (n x S_u)) / (|S_u| |S_v|), scaled.
-            const double k = o.turned_over_weight * ctx.diagonal * std::sqrt(surf_weight[i]) / (lu * lv);
+            const double scale = o.turned_over_weight * ctx.diagonal * std::sqrt(surf_weight[i]);
+            const double k = scale / (lu * lv);
             // At the current control points the row's sum is g_u . S_u + g_v . S_v, twice the
             // scaled sine (S_u x S_v is quadratic in them); b makes the residual the scaled sine.
             TurnedOverRow r{cross(dv, unit) * k, cross(unit, du) * k, 0, true};
-            r.b = dot(r.g_u, du) + dot(r.g_v, dv) - o.turned_over_weight * ctx.diagonal * std::sqrt(surf_weight[i]) * sine;
+            r.b = dot(r.g_u, du) + dot(r.g_v, dv) - scale * sine;
             turned_rows[direct ? surf_packed->slot_of[i] : i] = r;
         });
         if (direct) {
