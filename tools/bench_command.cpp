@@ -55,6 +55,7 @@ int run_bench(const BenchCommandOptions& o) {
     b.levels = parse_levels(o.levels);
     b.tolerance = o.tolerance;
     b.fit_rounds = o.rounds;
+    b.turned_over_weight = o.turned_over_weight;
     b.jobs = o.jobs;
     b.timeout_seconds = o.timeout_seconds;
     b.peer = !o.no_peer;

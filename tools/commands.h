@@ -136,6 +136,7 @@ struct BenchCommandOptions {
     std::string levels = "0,1,2,3";
     double tolerance = 0;            ///< > 0: passed to fit as --tolerance.
     int rounds = 0;                  ///< > 0: passed to every fit (ours and the peer's) as --rounds.
+    double turned_over_weight = 0;   ///< > 0: passed to every fit (ours and the peer's) as --turned-over-weight.
     int jobs = 1;
     double timeout_seconds = 1800;   ///< Per child process.
     bool no_peer = false;

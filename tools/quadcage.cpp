@@ -373,6 +373,11 @@ int main(int argc, char** argv) {
                           "default is 16 rounds a level; with 8, botijo's level 3 fits in 6.7 s instead of 11.7 s, to\n"
                           "relative RMS 4.5e-4 instead of 3.2e-4: see fit --rounds)")
         ->check(CLI::Range(1, 1000));
+    bench_cmd->add_option("--turned-over-weight", bench.turned_over_weight,
+                          "Passed to every fit, ours and the peer's, as --turned-over-weight W (default: not\n"
+                          "passed, fit's default 0: off), to compare surfaces kept from pleating: see fit\n"
+                          "--turned-over-weight")
+        ->check(CLI::NonNegativeNumber);
     bench_cmd->add_option("-j,--jobs", bench.jobs, "Meshes processed at the same time (default 1)")->check(CLI::Range(1, 64));
     bench_cmd->add_option("--timeout", bench.timeout_seconds, "Wall-clock limit of each stage in seconds (default 1800)")
         ->check(CLI::PositiveNumber);

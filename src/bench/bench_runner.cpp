@@ -332,8 +332,11 @@ private:
         else m_.notes.push_back(name + ": not drawn (" + (status == "ok" ? "no file written" : status) + ")");
     }
 
-    void add_rounds(std::vector<std::string>* argv) const {
+    // The fitter settings both fits of a level share, ours and the peer's.
+    void add_fit_settings(std::vector<std::string>* argv) const {
         if (o_.fit_rounds > 0) argv->insert(argv->end(), {"--rounds", std::to_string(o_.fit_rounds)});
+        if (o_.turned_over_weight > 0)
+            argv->insert(argv->end(), {"--turned-over-weight", fmt_g(o_.turned_over_weight)});
     }
 
     void run_fits() {
@@ -347,7 +350,7 @@ private:
             std::vector<std::string> argv = substitute(o_.commands.fit, v);
             argv.insert(argv.end(), o_.layout_flags.begin(), o_.layout_flags.end());
             if (o_.tolerance > 0) argv.insert(argv.end(), {"--tolerance", fmt_g(o_.tolerance)});
-            add_rounds(&argv);
+            add_fit_settings(&argv);
             const ChildResult r = stage("fit level " + std::to_string(level), argv);
             l.peak_memory_mib = r.peak_memory_mib;
             l.status = outcome(r, o_.timeout_seconds, &l.reason);
@@ -402,7 +405,7 @@ private:
         v["cage"] = cage.string();
         v["dir"] = fit_dir.string();
         std::vector<std::string> argv = substitute(o_.commands.peer_fit, v);
-        add_rounds(&argv);
+        add_fit_settings(&argv);
         const ChildResult r = stage("peer fit level " + std::to_string(p.level), argv);
         std::string reason;
         const std::string status = outcome(r, o_.timeout_seconds, &reason);
@@ -614,6 +617,8 @@ std::string BenchOptions::validate() const {
     if (!(timeout_seconds > 0) || !std::isfinite(timeout_seconds)) return "timeout must be a positive number of seconds";
     if (!(tolerance >= 0) || !std::isfinite(tolerance)) return "tolerance must be >= 0";
     if (fit_rounds < 0 || fit_rounds > 1000) return "fit rounds must be 1..1000 (0: fit's default)";
+    if (!(turned_over_weight >= 0) || !std::isfinite(turned_over_weight))
+        return "turned-over weight must be >= 0 (0: fit's default)";
     for (size_t i = 0; i < levels.size(); ++i) {
         if (levels[i] < 0 || levels[i] > 8) return "level " + std::to_string(levels[i]) + " is outside 0..8";
         for (size_t k = 0; k < i; ++k)
@@ -632,6 +637,7 @@ BenchResult run_bench(const std::vector<BenchInput>& inputs, const BenchOptions&
     result.levels = o.levels;
     result.layout_flags = o.layout_flags;
     result.fit_rounds = o.fit_rounds;
+    result.turned_over_weight = o.turned_over_weight;
     result.meshes.resize(inputs.size());
     const Clock::time_point start = Clock::now();
     std::mutex progress_mutex;

@@ -430,6 +430,32 @@ TEST_F(BenchRunner, RoundsReachOurFitsAndThePeersFit) {
     EXPECT_TRUE(nlohmann::json::parse(slurp(dir_ / "out2" / "bench.json"))["fit_rounds"].is_null());
 }
 
+TEST_F(BenchRunner, TheTurnedOverWeightReachesOurFitsAndThePeersFit) {
+    BenchOptions o = options();
+    o.pictures = false;
+    o.levels = {0};
+    o.turned_over_weight = 0.01;
+    o.commands.fit = logged("fit-args", {"{exe}", "fit", "{mesh}", "-o", "{dir}", "--level", "{level}"});
+    o.commands.peer_fit =
+        logged("peer-fit-args", {"{exe}", "fit", "{mesh}", "--cage", "{cage}", "--level", "0", "-o", "{dir}"});
+    const BenchResult r = run_bench({mesh("good")}, o);
+    ASSERT_EQ(r.meshes[0].status, "ok");
+    const std::string log = slurp(dir_ / "out" / "meshes" / "good" / "log.txt");
+    EXPECT_NE(logged_line(log, "fit-args").find("--level 0 --turned-over-weight 0.01"), std::string::npos) << log;
+    EXPECT_NE(logged_line(log, "peer-fit-args").find("--turned-over-weight 0.01"), std::string::npos) << log;
+    write_bench_tables(o.output_dir, r);
+    EXPECT_EQ(nlohmann::json::parse(slurp(dir_ / "out" / "bench.json"))["turned_over_weight"], 0.01);
+    EXPECT_NE(slurp(dir_ / "out" / "bench.md").find("`--turned-over-weight 0.01`"), std::string::npos);
+
+    o.turned_over_weight = 0;
+    o.output_dir = (dir_ / "out2").string();
+    const BenchResult r2 = run_bench({mesh("good")}, o);
+    ASSERT_EQ(r2.meshes[0].status, "ok");
+    EXPECT_EQ(slurp(dir_ / "out2" / "meshes" / "good" / "log.txt").find("--turned-over-weight"), std::string::npos);
+    write_bench_tables(o.output_dir, r2);
+    EXPECT_TRUE(nlohmann::json::parse(slurp(dir_ / "out2" / "bench.json"))["turned_over_weight"].is_null());
+}
+
 TEST_F(BenchRunner, AMissingStageCommandIsAFailureNotAnAbort) {
     BenchOptions o = options();
     o.pictures = false;
@@ -453,6 +479,11 @@ TEST(BenchOptionsValidate, RejectsBadValues) {
     o.fit_rounds = 1001;
     EXPECT_NE(o.validate().find("rounds"), std::string::npos);
     o.fit_rounds = 0;
+    o.turned_over_weight = -0.1;
+    EXPECT_NE(o.validate().find("turned-over"), std::string::npos);
+    o.turned_over_weight = std::nan("");
+    EXPECT_NE(o.validate().find("turned-over"), std::string::npos);
+    o.turned_over_weight = 0;
     o.levels = {0, 0};
     EXPECT_NE(o.validate().find("twice"), std::string::npos);
     o.levels = {9};

@@ -6,10 +6,12 @@
 # ours and peer, control points, relative RMS and Hausdorff, the ratios ours / peer (they count only
 # when the control-point counts are within 10%), the worst and median ratio, and the QuadriFlow
 # attempts that were not used as they were.
-#   tools/bench/peer_compare.sh [--check] [--embedding] [-o DIR | --from DIR] [BUILD_DIR] [MESH...]
+#   tools/bench/peer_compare.sh [--check] [--embedding] [--turned-over-weight W] [-o DIR | --from DIR]
+#                               [BUILD_DIR] [MESH...]
 #     --check     also run ../shared/tools/check_fit.py on both limit.ply files (slow on big meshes)
 #     --embedding our layouts with the embedding stage: `bench --embedding-iterations 30
 #                 --embedding-extract` (issue #20; the peer's fit is unchanged)
+#     --turned-over-weight W  every fit, ours and the peer's, with `fit --turned-over-weight W`
 #     -o DIR      keep the bench folders in DIR (default: a new temporary folder, kept and printed)
 #     --from DIR  run nothing: print the table from an earlier run's DIR (e.g. to add --check)
 #     MESH...     default: the nine shared meshes of genus >= 1
@@ -22,10 +24,11 @@ flags=()
 while [ $# -gt 0 ]; do
   case "$1" in
     --check) check=1; shift ;;
-    --embedding) flags=(--embedding-iterations 30 --embedding-extract); shift ;;
+    --embedding) flags+=(--embedding-iterations 30 --embedding-extract); shift ;;
+    --turned-over-weight) flags+=(--turned-over-weight "$2"); shift 2 ;;
     -o) out=$2; shift 2 ;;
     --from) out=$2; reuse=1; shift 2 ;;
-    -h|--help) sed -n '2,15p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,17p' "$0"; exit 0 ;;
     *) break ;;
   esac
 done
