@@ -335,8 +335,8 @@ private:
     // The fitter settings both fits of a level share, ours and the peer's.
     void add_fit_settings(std::vector<std::string>* argv) const {
         if (o_.fit_rounds > 0) argv->insert(argv->end(), {"--rounds", std::to_string(o_.fit_rounds)});
-        if (o_.turned_over_weight > 0)
-            argv->insert(argv->end(), {"--turned-over-weight", fmt_g(o_.turned_over_weight)});
+        if (o_.turned_over_weight)
+            argv->insert(argv->end(), {"--turned-over-weight", fmt_g(*o_.turned_over_weight)});
     }
 
     void run_fits() {
@@ -617,8 +617,8 @@ std::string BenchOptions::validate() const {
     if (!(timeout_seconds > 0) || !std::isfinite(timeout_seconds)) return "timeout must be a positive number of seconds";
     if (!(tolerance >= 0) || !std::isfinite(tolerance)) return "tolerance must be >= 0";
     if (fit_rounds < 0 || fit_rounds > 1000) return "fit rounds must be 1..1000 (0: fit's default)";
-    if (!(turned_over_weight >= 0) || !std::isfinite(turned_over_weight))
-        return "turned-over weight must be >= 0 (0: fit's default)";
+    if (turned_over_weight && (!(*turned_over_weight >= 0) || !std::isfinite(*turned_over_weight)))
+        return "turned-over weight must be a number >= 0";
     for (size_t i = 0; i < levels.size(); ++i) {
         if (levels[i] < 0 || levels[i] > 8) return "level " + std::to_string(levels[i]) + " is outside 0..8";
         for (size_t k = 0; k < i; ++k)

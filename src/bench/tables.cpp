@@ -295,7 +295,7 @@ std::string bench_json(const BenchResult& r) {
     j["levels"] = r.levels;
     j["layout_flags"] = r.layout_flags;
     j["fit_rounds"] = r.fit_rounds > 0 ? json(r.fit_rounds) : json(nullptr);
-    j["turned_over_weight"] = r.turned_over_weight > 0 ? json(r.turned_over_weight) : json(nullptr);
+    j["turned_over_weight"] = r.turned_over_weight ? json(*r.turned_over_weight) : json(nullptr);
     j["plot"] = opt(r.plot_png);
     json meshes = json::array();
     for (const MeshResult& m : r.meshes) {
@@ -391,9 +391,10 @@ std::string bench_markdown(const BenchResult& r) {
     if (r.fit_rounds > 0)
         md += "Every fit, ours and the peer's, took at most " + std::to_string(r.fit_rounds) +
               " rounds a level (`--rounds " + std::to_string(r.fit_rounds) + "`).\n\n";
-    if (r.turned_over_weight > 0)
-        md += "Every fit, ours and the peer's, kept its surface from turning over (`--turned-over-weight " +
-              fmt("%g", r.turned_over_weight) + "`).\n\n";
+    if (r.turned_over_weight)
+        md += std::string("Every fit, ours and the peer's, ran with `--turned-over-weight ") +
+              fmt("%g", *r.turned_over_weight) + "`" +
+              (*r.turned_over_weight > 0 ? "" : " (no term against pleats)") + ".\n\n";
     if (!r.plot_png.empty()) md += "![relative RMS against control points, log-log](" + r.plot_png + ")\n\n";
     else md += "(No plot: no fit reported control points and an RMS.)\n\n";
 

@@ -447,7 +447,18 @@ TEST_F(BenchRunner, TheTurnedOverWeightReachesOurFitsAndThePeersFit) {
     EXPECT_EQ(nlohmann::json::parse(slurp(dir_ / "out" / "bench.json"))["turned_over_weight"], 0.01);
     EXPECT_NE(slurp(dir_ / "out" / "bench.md").find("`--turned-over-weight 0.01`"), std::string::npos);
 
-    o.turned_over_weight = 0;
+    // 0 is passed too (the term off on both sides); unset, neither fit gets the flag.
+    o.turned_over_weight = 0.0;
+    o.output_dir = (dir_ / "out0").string();
+    const BenchResult r0 = run_bench({mesh("good")}, o);
+    ASSERT_EQ(r0.meshes[0].status, "ok");
+    const std::string log0 = slurp(dir_ / "out0" / "meshes" / "good" / "log.txt");
+    EXPECT_NE(logged_line(log0, "fit-args").find("--turned-over-weight 0"), std::string::npos) << log0;
+    EXPECT_NE(logged_line(log0, "peer-fit-args").find("--turned-over-weight 0"), std::string::npos) << log0;
+    write_bench_tables(o.output_dir, r0);
+    EXPECT_EQ(nlohmann::json::parse(slurp(dir_ / "out0" / "bench.json"))["turned_over_weight"], 0.0);
+
+    o.turned_over_weight.reset();
     o.output_dir = (dir_ / "out2").string();
     const BenchResult r2 = run_bench({mesh("good")}, o);
     ASSERT_EQ(r2.meshes[0].status, "ok");
@@ -483,7 +494,9 @@ TEST(BenchOptionsValidate, RejectsBadValues) {
     EXPECT_NE(o.validate().find("turned-over"), std::string::npos);
     o.turned_over_weight = std::nan("");
     EXPECT_NE(o.validate().find("turned-over"), std::string::npos);
-    o.turned_over_weight = 0;
+    o.turned_over_weight = 0.0;
+    EXPECT_EQ(o.validate(), "");
+    o.turned_over_weight.reset();
     o.levels = {0, 0};
     EXPECT_NE(o.validate().find("twice"), std::string::npos);
     o.levels = {9};

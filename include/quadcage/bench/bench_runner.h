@@ -3,6 +3,7 @@
 // each stage in its own child process, and collect the results. Issue #6.
 
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -38,9 +39,9 @@ struct BenchOptions {
     /// If > 0, `--rounds N` is appended to every fit command, ours and the peer's alike, so the
     /// equal-control-point comparison runs one fitter on both cages (fit's default: 16).
     int fit_rounds = 0;
-    /// If > 0, `--turned-over-weight W` is appended to every fit command, ours and the peer's alike
-    /// (fit's default: 0, off), so the comparison can be made between pleat-free surfaces.
-    double turned_over_weight = 0;
+    /// If set, `--turned-over-weight W` is appended to every fit command, ours and the peer's alike
+    /// (unset: fit's default), so both surfaces are kept from pleating alike, or (0) neither is.
+    std::optional<double> turned_over_weight;
     int jobs = 1;                    ///< Meshes processed at the same time (1..64).
     double timeout_seconds = 1800;   ///< Wall-clock limit of every child process (> 0).
     bool pictures = true;            ///< Run the render stage after layout and after each fit.

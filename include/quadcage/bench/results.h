@@ -99,7 +99,7 @@ struct BenchResult {
     std::vector<int> levels;              ///< Levels requested.
     std::vector<std::string> layout_flags;  ///< BenchOptions::layout_flags: how our layouts were made.
     int fit_rounds = 0;                   ///< BenchOptions::fit_rounds (0: fit's default).
-    double turned_over_weight = 0;        ///< BenchOptions::turned_over_weight (0: fit's default).
+    std::optional<double> turned_over_weight;  ///< BenchOptions::turned_over_weight (unset: fit's default).
     double wall_seconds = 0;
     std::string plot_png;                 ///< RMS against control points; relative path, empty if none.
 };
