@@ -238,11 +238,11 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(0.0, 1.0));
     fit_cmd->add_option("--turned-over-weight", fitopt.turned_over_weight,
                         "Weight of the term that keeps the fitted surface from turning over against the input\n"
-                        "(the middle sheet of a pleat, lying on the input where no distance sees it; default 0:\n"
-                        "off). With 0.01 botijo's level-3 surface had 1.1% more area than the input instead of\n"
-                        "19%, boot's 3.5% instead of 64%, at +8% and +14% RMS; skull and input_wheel fitted\n"
-                        "closer. The summary and report.json's limit_tessellation give the pleats left:\n"
-                        "folded_area_fraction and inverted_area_fraction")
+                        "(the middle sheet of a pleat, lying on the input where no distance sees it; default\n"
+                        "0.01; 0: off). With 0.01 botijo's level-3 surface had 1.1% more area than the input\n"
+                        "instead of 19% with 0, boot's 3.5% instead of 64%, at +8% and +14% RMS; skull and\n"
+                        "input_wheel fitted closer. The summary and report.json's limit_tessellation give the\n"
+                        "pleats left: folded_area_fraction and inverted_area_fraction")
         ->check(CLI::NonNegativeNumber);
     fit_cmd->add_flag(
         "--plane-feet-only", fitopt.plane_feet_only,
@@ -375,8 +375,7 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(1, 1000));
     bench_cmd->add_option("--turned-over-weight", bench.turned_over_weight,
                           "Passed to every fit, ours and the peer's, as --turned-over-weight W (default: not\n"
-                          "passed, fit's default 0: off), to compare surfaces kept from pleating: see fit\n"
-                          "--turned-over-weight")
+                          "passed: fit's default); 0 compares surfaces free to pleat: see fit --turned-over-weight")
         ->check(CLI::NonNegativeNumber);
     bench_cmd->add_option("-j,--jobs", bench.jobs, "Meshes processed at the same time (default 1)")->check(CLI::Range(1, 64));
     bench_cmd->add_option("--timeout", bench.timeout_seconds, "Wall-clock limit of each stage in seconds (default 1800)")

@@ -9,11 +9,12 @@ namespace quadcage::fit {
 namespace {
 
 // The relative RMS of fit_surface() at options.level, as a score to compare layouts by, not a fit
-// to keep: the scheduled rounds only, as before FitOptions::extra_rounds, so the layouts the
-// scores choose stay those they chose.
+// to keep: the scheduled rounds only, as before FitOptions::extra_rounds, and no turned-over term,
+// as before FitOptions::turned_over_weight, so the layouts the scores choose stay those they chose.
 std::function<double(const layout::QuadLayout&)> rms_score(FitOptions options) {
     options.mode = FitMode::Level;
     options.extra_rounds = 0;
+    options.turned_over_weight = kScoreTurnedOverWeight;
     options.progress = nullptr;
     if (const std::string e = options.validate(); !e.empty()) throw InvalidInput("fit options: " + e);
     return [options](const layout::QuadLayout& layout) {

@@ -216,6 +216,7 @@ TEST(FitSurface, LevelOneFitScoreIsTheLevelOneRms) {
     one.level = 1;
     one.extra_rounds = 0;
     one.tangential_weight = kScoreTangentialWeight;
+    one.turned_over_weight = kScoreTurnedOverWeight;
     one.data_points_per_face = one.surface_samples_per_face = kScorePointsPerFace;
     one.error_samples = kScoreErrorSamples;
     const FitResult r = fit_surface(layout, one);
@@ -242,6 +243,7 @@ TEST(FitSurface, LevelTwoFitScoreIsTheLevelTwoRms) {
     FitOptions two = fast_options();
     two.level = 2;
     two.extra_rounds = 0;
+    two.turned_over_weight = kScoreTurnedOverWeight;
     const FitResult r = fit_surface(layout, two);
     ASSERT_EQ(r.levels.back().level, 2);
     EXPECT_EQ(s2, r.levels.back().relative.rms);
@@ -495,7 +497,8 @@ TEST(FitOutputs, TurnedOverAreaIsMeasuredAgainstTheInputsOrientation) {
 // A body with three small handles in a row (`generate handles -g 3 --in-a-row -r 2`, laid out with
 // the library's defaults): at level 2 without the turned-over term 3.1% of the limit surface lay
 // turned over against the input, the middle sheets of pleats; 0.13% with the term at 0.1, the RMS
-// 1% higher (measured in development). Both solvers take the term alike.
+// 1% higher (measured in development). The default weight, too, must turn most of them back.
+// Both solvers take the term alike.
 TEST(FitTurnedOver, TheTermTurnsThePleatsBackWithEitherSolver) {
     shapes::HandleBodyOptions body;
     body.handles = 3;
@@ -523,6 +526,27 @@ TEST(FitTurnedOver, TheTermTurnsThePleatsBackWithEitherSolver) {
     const auto [ceres, turned_ceres] = turned_over(0.1, FitSolver::Ceres);
     EXPECT_NEAR(ceres.relative.rms, with.relative.rms, 0.02 * with.relative.rms);
     EXPECT_LT(turned_ceres, 0.2 * turned_without);
+    const auto [by_default, turned_by_default] = turned_over(FitOptions{}.turned_over_weight, FitSolver::Direct);
+    EXPECT_LT(turned_by_default, 0.3 * turned_without);
+    EXPECT_LT(by_default.relative.rms, 1.2 * without.relative.rms);
+
+    // The layout's scores fit without the term (kScoreTurnedOverWeight), whatever their options
+    // say, though on this layout the term changes the level-1 fit they are.
+    FitOptions heavy;
+    heavy.turned_over_weight = 0.1;
+    const double score = level1_fit_score(heavy)(layout);
+    EXPECT_EQ(score, level1_fit_score(FitOptions{})(layout));
+    FitOptions one;
+    one.mode = FitMode::Level;
+    one.level = 1;
+    one.extra_rounds = 0;
+    one.tangential_weight = kScoreTangentialWeight;
+    one.data_points_per_face = one.surface_samples_per_face = kScorePointsPerFace;
+    one.error_samples = kScoreErrorSamples;
+    one.turned_over_weight = kScoreTurnedOverWeight;
+    EXPECT_EQ(score, fit_surface(layout, one).levels.back().relative.rms);
+    one.turned_over_weight = 0.1;
+    EXPECT_NE(score, fit_surface(layout, one).levels.back().relative.rms);
 }
 
 TEST(FitOutputs, QuadObjAndReportWithoutTessellation) {
