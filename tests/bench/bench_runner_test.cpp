@@ -399,72 +399,64 @@ TEST_F(BenchRunner, LayoutFlagsReachTheLayoutAndOurFitsButNotThePeersFit) {
               std::string::npos);
 }
 
-TEST_F(BenchRunner, RoundsReachOurFitsAndThePeersFit) {
-    // Both fits of a level must use the same fitter settings: the ratios compare the cages.
-    BenchOptions o = options();
+/// One bench run of `input` (a mesh named "good") at level 0 into `out`, with both fit commands
+/// logged; returns the mesh's log and the run's bench.json and bench.md (tables written).
+struct LoggedFits {
+    std::string log, md;
+    nlohmann::json json;
+};
+LoggedFits run_logged_fits(BenchOptions o, const BenchInput& input, const fs::path& out) {
     o.pictures = false;
     o.levels = {0};
-    o.fit_rounds = 5;
+    o.output_dir = out.string();
     o.commands.fit = logged("fit-args", {"{exe}", "fit", "{mesh}", "-o", "{dir}", "--level", "{level}"});
     o.commands.peer_fit =
         logged("peer-fit-args", {"{exe}", "fit", "{mesh}", "--cage", "{cage}", "--level", "0", "-o", "{dir}"});
-    const BenchResult r = run_bench({mesh("good")}, o);
-    ASSERT_EQ(r.meshes[0].status, "ok");
-    const std::string log = slurp(dir_ / "out" / "meshes" / "good" / "log.txt");
-    const auto line = [&](const std::string& tag) { return logged_line(log, tag); };
-    EXPECT_NE(line("fit-args").find("--level 0 --rounds 5"), std::string::npos) << log;
-    EXPECT_NE(line("peer-fit-args").find("--level 0 -o"), std::string::npos) << log;
-    EXPECT_NE(line("peer-fit-args").find("--rounds 5"), std::string::npos) << log;
+    const BenchResult r = run_bench({input}, o);
+    EXPECT_EQ(r.meshes[0].status, "ok");
     write_bench_tables(o.output_dir, r);
-    const auto j = nlohmann::json::parse(slurp(dir_ / "out" / "bench.json"));
-    EXPECT_EQ(j["fit_rounds"], 5);
-    EXPECT_NE(slurp(dir_ / "out" / "bench.md").find("`--rounds 5`"), std::string::npos);
+    return {slurp(out / "meshes" / "good" / "log.txt"), slurp(out / "bench.md"),
+            nlohmann::json::parse(slurp(out / "bench.json"))};
+}
+
+TEST_F(BenchRunner, RoundsReachOurFitsAndThePeersFit) {
+    // Both fits of a level must use the same fitter settings: the ratios compare the cages.
+    BenchOptions o = options();
+    o.fit_rounds = 5;
+    const LoggedFits with = run_logged_fits(o, mesh("good"), dir_ / "out");
+    EXPECT_NE(logged_line(with.log, "fit-args").find("--level 0 --rounds 5"), std::string::npos) << with.log;
+    EXPECT_NE(logged_line(with.log, "peer-fit-args").find("--level 0 -o"), std::string::npos) << with.log;
+    EXPECT_NE(logged_line(with.log, "peer-fit-args").find("--rounds 5"), std::string::npos) << with.log;
+    EXPECT_EQ(with.json["fit_rounds"], 5);
+    EXPECT_NE(with.md.find("`--rounds 5`"), std::string::npos);
 
     // Without it, neither fit gets the flag and the tables say null.
     o.fit_rounds = 0;
-    o.output_dir = (dir_ / "out2").string();
-    const BenchResult r2 = run_bench({mesh("good")}, o);
-    ASSERT_EQ(r2.meshes[0].status, "ok");
-    EXPECT_EQ(slurp(dir_ / "out2" / "meshes" / "good" / "log.txt").find("--rounds"), std::string::npos);
-    write_bench_tables(o.output_dir, r2);
-    EXPECT_TRUE(nlohmann::json::parse(slurp(dir_ / "out2" / "bench.json"))["fit_rounds"].is_null());
+    const LoggedFits without = run_logged_fits(o, mesh("good"), dir_ / "out2");
+    EXPECT_EQ(without.log.find("--rounds"), std::string::npos);
+    EXPECT_TRUE(without.json["fit_rounds"].is_null());
 }
 
 TEST_F(BenchRunner, TheTurnedOverWeightReachesOurFitsAndThePeersFit) {
     BenchOptions o = options();
-    o.pictures = false;
-    o.levels = {0};
     o.turned_over_weight = 0.01;
-    o.commands.fit = logged("fit-args", {"{exe}", "fit", "{mesh}", "-o", "{dir}", "--level", "{level}"});
-    o.commands.peer_fit =
-        logged("peer-fit-args", {"{exe}", "fit", "{mesh}", "--cage", "{cage}", "--level", "0", "-o", "{dir}"});
-    const BenchResult r = run_bench({mesh("good")}, o);
-    ASSERT_EQ(r.meshes[0].status, "ok");
-    const std::string log = slurp(dir_ / "out" / "meshes" / "good" / "log.txt");
-    EXPECT_NE(logged_line(log, "fit-args").find("--level 0 --turned-over-weight 0.01"), std::string::npos) << log;
-    EXPECT_NE(logged_line(log, "peer-fit-args").find("--turned-over-weight 0.01"), std::string::npos) << log;
-    write_bench_tables(o.output_dir, r);
-    EXPECT_EQ(nlohmann::json::parse(slurp(dir_ / "out" / "bench.json"))["turned_over_weight"], 0.01);
-    EXPECT_NE(slurp(dir_ / "out" / "bench.md").find("`--turned-over-weight 0.01`"), std::string::npos);
+    const LoggedFits with = run_logged_fits(o, mesh("good"), dir_ / "out");
+    EXPECT_NE(logged_line(with.log, "fit-args").find("--level 0 --turned-over-weight 0.01"), std::string::npos) << with.log;
+    EXPECT_NE(logged_line(with.log, "peer-fit-args").find("--turned-over-weight 0.01"), std::string::npos) << with.log;
+    EXPECT_EQ(with.json["turned_over_weight"], 0.01);
+    EXPECT_NE(with.md.find("`--turned-over-weight 0.01`"), std::string::npos);
 
     // 0 is passed too (the term off on both sides); unset, neither fit gets the flag.
     o.turned_over_weight = 0.0;
-    o.output_dir = (dir_ / "out0").string();
-    const BenchResult r0 = run_bench({mesh("good")}, o);
-    ASSERT_EQ(r0.meshes[0].status, "ok");
-    const std::string log0 = slurp(dir_ / "out0" / "meshes" / "good" / "log.txt");
-    EXPECT_NE(logged_line(log0, "fit-args").find("--turned-over-weight 0"), std::string::npos) << log0;
-    EXPECT_NE(logged_line(log0, "peer-fit-args").find("--turned-over-weight 0"), std::string::npos) << log0;
-    write_bench_tables(o.output_dir, r0);
-    EXPECT_EQ(nlohmann::json::parse(slurp(dir_ / "out0" / "bench.json"))["turned_over_weight"], 0.0);
+    const LoggedFits off = run_logged_fits(o, mesh("good"), dir_ / "out0");
+    EXPECT_NE(logged_line(off.log, "fit-args").find("--turned-over-weight 0"), std::string::npos) << off.log;
+    EXPECT_NE(logged_line(off.log, "peer-fit-args").find("--turned-over-weight 0"), std::string::npos) << off.log;
+    EXPECT_EQ(off.json["turned_over_weight"], 0.0);
 
     o.turned_over_weight.reset();
-    o.output_dir = (dir_ / "out2").string();
-    const BenchResult r2 = run_bench({mesh("good")}, o);
-    ASSERT_EQ(r2.meshes[0].status, "ok");
-    EXPECT_EQ(slurp(dir_ / "out2" / "meshes" / "good" / "log.txt").find("--turned-over-weight"), std::string::npos);
-    write_bench_tables(o.output_dir, r2);
-    EXPECT_TRUE(nlohmann::json::parse(slurp(dir_ / "out2" / "bench.json"))["turned_over_weight"].is_null());
+    const LoggedFits unset = run_logged_fits(o, mesh("good"), dir_ / "out2");
+    EXPECT_EQ(unset.log.find("--turned-over-weight"), std::string::npos);
+    EXPECT_TRUE(unset.json["turned_over_weight"].is_null());
 }
 
 TEST_F(BenchRunner, AMissingStageCommandIsAFailureNotAnAbort) {
