@@ -1,6 +1,5 @@
 // `quadcage bench`: many meshes, every stage in a child process, tables and pictures (issue #6).
 
-#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <sstream>
@@ -56,7 +55,7 @@ int run_bench(const BenchCommandOptions& o) {
     b.levels = parse_levels(o.levels);
     b.tolerance = o.tolerance;
     b.fit_rounds = o.rounds;
-    if (!std::isnan(o.turned_over_weight)) b.turned_over_weight = o.turned_over_weight;
+    b.turned_over_weight = o.turned_over_weight;
     b.jobs = o.jobs;
     b.timeout_seconds = o.timeout_seconds;
     b.peer = !o.no_peer;

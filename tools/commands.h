@@ -1,7 +1,7 @@
 #pragma once
 // The CLI's commands: each parses nothing itself; quadcage.cpp fills the options and calls one.
 
-#include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -137,8 +137,8 @@ struct BenchCommandOptions {
     std::string levels = "0,1,2,3";
     double tolerance = 0;            ///< > 0: passed to fit as --tolerance.
     int rounds = 0;                  ///< > 0: passed to every fit (ours and the peer's) as --rounds.
-    /// Given (not NaN): passed to every fit (ours and the peer's) as --turned-over-weight.
-    double turned_over_weight = std::numeric_limits<double>::quiet_NaN();
+    /// Given: passed to every fit (ours and the peer's) as --turned-over-weight.
+    std::optional<double> turned_over_weight;
     int jobs = 1;
     double timeout_seconds = 1800;   ///< Per child process.
     bool no_peer = false;

@@ -25,7 +25,7 @@ while [ $# -gt 0 ]; do
   case "$1" in
     --check) check=1; shift ;;
     --embedding) flags+=(--embedding-iterations 30 --embedding-extract); shift ;;
-    --turned-over-weight) flags+=(--turned-over-weight "$2"); shift 2 ;;
+    --turned-over-weight) flags+=(--turned-over-weight "${2:?--turned-over-weight needs a value}"); shift 2 ;;
     -o) out=$2; shift 2 ;;
     --from) out=$2; reuse=1; shift 2 ;;
     -h|--help) sed -n '2,17p' "$0"; exit 0 ;;
