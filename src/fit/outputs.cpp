@@ -169,6 +169,7 @@ FitReport fit_report(const FitResult& result, const FitOptions& options, const T
         r.fitted_cage = FitReport::ControlMesh{result.surface.control_mesh().num_vertices(),
                                                result.surface.control_mesh().num_quads(), result.surface.cage_faces()};
     r.irregular_level = options.irregular_level;
+    r.weights = {options.surface_to_input_weight, options.tangential_weight, options.turned_over_weight};
     if (tessellation) r.limit_tessellation = *tessellation;
     return r;
 }

@@ -78,6 +78,11 @@ void put_fit_report(const FitReport& r, Json& report) {
         report["fitted_cage"] = c;
     }
     report["irregular_level"] = r.irregular_level;
+    Json weights;
+    weights["surface_to_input"] = r.weights.surface_to_input;
+    weights["tangential"] = r.weights.tangential;
+    weights["turned_over"] = r.weights.turned_over;
+    report["weights"] = weights;
     if (r.limit_tessellation) {
         const TessellationChoice& t = *r.limit_tessellation;
         Json j;

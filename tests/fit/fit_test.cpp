@@ -554,10 +554,15 @@ TEST(FitOutputs, QuadObjAndReportWithoutTessellation) {
     FitOptions o = fast_options();
     o.mode = FitMode::Tolerance;
     o.tolerance = 0.5;  // level 0 already meets it
+    o.turned_over_weight = 0.03;
     const FitResult r = fit_surface(layout, o);
     ASSERT_TRUE(r.tolerance_met);
     const auto report = nlohmann::json::parse(fit_report(r, o).to_json());
     EXPECT_EQ(report["mode"], "tolerance");
+    // The weights that made the surface, from the options.
+    EXPECT_EQ(report["weights"]["turned_over"], 0.03);
+    EXPECT_EQ(report["weights"]["tangential"], o.tangential_weight);
+    EXPECT_EQ(report["weights"]["surface_to_input"], o.surface_to_input_weight);
     EXPECT_EQ(report["tolerance_met"], true);
     EXPECT_EQ(report["level"], 0);
     EXPECT_FALSE(report.contains("limit_tessellation"));

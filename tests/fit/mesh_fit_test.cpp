@@ -54,6 +54,7 @@ FitReport sample_report() {
     r.diagonal = 10;
     r.levels = {level_report(0), level_report(1)};
     r.fitted_cage = FitReport::ControlMesh{42, 40};
+    r.weights = {1.0, 0.002, 0.01};
     TessellationChoice t;
     t.segments = 4;
     t.triangles = 1280;
@@ -77,7 +78,7 @@ TEST(FitReport, FieldsInTheirDocumentedOrder) {
     const auto j = nlohmann::ordered_json::parse(text);
     EXPECT_EQ(keys(j), (std::vector<std::string>{"mode", "requested_level", "tolerance", "tolerance_met", "level",
                                                  "message", "diagonal", "levels", "fitted_cage", "irregular_level",
-                                                 "limit_tessellation"}));
+                                                 "weights", "limit_tessellation"}));
     EXPECT_EQ(j["mode"], "level");
     EXPECT_EQ(j["requested_level"], 1);
     ASSERT_EQ(j["levels"].size(), 2u);
@@ -92,6 +93,8 @@ TEST(FitReport, FieldsInTheirDocumentedOrder) {
     EXPECT_EQ(j["fitted_cage"]["vertices"], 42);
     EXPECT_EQ(j["limit_tessellation"]["segments_per_face"], 4);
     EXPECT_EQ(j["limit_tessellation"]["met"], true);
+    EXPECT_EQ(keys(j["weights"]), (std::vector<std::string>{"surface_to_input", "tangential", "turned_over"}));
+    EXPECT_EQ(j["weights"]["turned_over"], 0.01);
     // Round trip: the text is what printing the parsed report gives, and it does not change.
     EXPECT_EQ(j.dump(2) + "\n", text);
     EXPECT_EQ(FitReport(r).to_json(), text);

@@ -101,6 +101,14 @@ struct FitReport {
     };
     std::optional<ControlMesh> fitted_cage;
     int irregular_level = 0;  ///< FitOptions::irregular_level (the export evaluates with it).
+    /// The weights of the fit's terms, so a report says which settings made its surface (their
+    /// defaults change: the turned-over term was off until stop 63).
+    struct Weights {
+        double surface_to_input = 0;  ///< FitOptions::surface_to_input_weight.
+        double tangential = 0;        ///< FitOptions::tangential_weight.
+        double turned_over = 0;       ///< FitOptions::turned_over_weight.
+    };
+    Weights weights;
     std::optional<TessellationChoice> limit_tessellation;  ///< The tessellation of limit.ply, once written.
 
     /// The report as pretty-printed JSON (2-space indent, keys in this order, a final newline):
@@ -110,7 +118,7 @@ struct FitReport {
     /// solver_iterations, stop_reason, seconds: {parameterization, evaluation, closest_points,
     /// solve, total}, unfitted_relative: {rms, hausdorff} when measured}], rejected_level (same
     /// shape) if set, fitted_cage {vertices, quads, level0_faces} if set, irregular_level,
-    /// limit_tessellation {segments_per_face,
+    /// weights {surface_to_input, tangential, turned_over}, limit_tessellation {segments_per_face,
     /// triangles, rms_error, max_error, target, met} if set. Deterministic: equal reports give
     /// equal text.
     /// \throw InternalError if a number is not finite (it would be written as null).
