@@ -688,6 +688,33 @@ LevelReport fit_level(const Context& ctx, const LevelTopology& topo, subdiv::Lim
                            : detail::point_to_point_rows(std::move(wi), state.data[i].p, 1.0),
                        data_pos[i], data_weight);
         });
+        // The turned-over term (FitOptions::turned_over_weight): one row for each surface sample
+        // where the surface turns over against the input, sum_a (wu_a g_u + wv_a g_v) . x_a - b
+        // over its face's control points (wu, wv: the weights of S_u and S_v), by the samples'
+        // slots as surf_rows, made beside them.
+        struct TurnedOverRow {
+            Vec3 g_u, g_v;
+            double b = 0;
+            bool on = false;
+        };
+        std::vector<TurnedOverRow> turned_rows(turned_over_term ? ns : 0);
+        // The row of sample i, whose closest input triangle has unit normal `unit`; off where the
+        // surface faces the input's way.
+        const auto turned_over_row = [&](int i, const Vec3& unit) {
+            const Vec3 &du = surf_du_now[i], &dv = surf_dv_now[i];
+            const double lu = norm(du), lv = norm(dv);
+            if (!(lu > 0) || !(lv > 0)) return TurnedOverRow{};
+            const double sine = dot(cross(du, dv), unit) / (lu * lv);
+            if (sine >= 0) return TurnedOverRow{};
+            // d sine = (dS_u . (S_v x n) + dS_v . (n x S_u)) / (|S_u| |S_v|), scaled.
+            const double scale = o.turned_over_weight * ctx.diagonal * std::sqrt(surf_weight[i]);
+            const double k = scale / (lu * lv);
+            // At the current control points the row's sum is g_u . S_u + g_v . S_v, twice the
+            // scaled sine (S_u x S_v is quadratic in them); b makes the residual the scaled sine.
+            TurnedOverRow r{cross(dv, unit) * k, cross(unit, du) * k, 0, true};
+            r.b = dot(r.g_u, du) + dot(r.g_v, dv) - scale * sine;
+            return r;
+        };
         parallel_for(static_cast<int>(surf_rows.size()), ctx.threads, [&](int i) {
             const Triangle& tri = ctx.mesh.triangles[hits[i].triangle];
             const Vec3& a = ctx.mesh.points[tri[0]];
@@ -707,35 +734,7 @@ LevelReport fit_level(const Context& ctx, const LevelTopology& topo, subdiv::Lim
             detail::StencilRows rows = detail::point_to_plane_rows(std::move(wi), hits[i].point, normal, 1.0);
             surf_rows[slot] = scaled(std::move(rows), surf_pos[i], surf_weight[i]);
             surf_used[slot] = 1;
-        });
-        // The turned-over term (FitOptions::turned_over_weight): one row for each surface sample
-        // where the surface turns over against the input, sum_a (wu_a g_u + wv_a g_v) . x_a - b
-        // over its face's control points (wu, wv: the weights of S_u and S_v), by the samples'
-        // slots as surf_rows.
-        struct TurnedOverRow {
-            Vec3 g_u, g_v;
-            double b = 0;
-            bool on = false;
-        };
-        std::vector<TurnedOverRow> turned_rows(turned_over_term ? ns : 0);
-        parallel_for(static_cast<int>(turned_rows.size()), ctx.threads, [&](int i) {
-            const Triangle& tri = ctx.mesh.triangles[hits[i].triangle];
-            const Vec3& a = ctx.mesh.points[tri[0]];
-            const Vec3 n = cross(ctx.mesh.points[tri[1]] - a, ctx.mesh.points[tri[2]] - a);
-            const Vec3 &du = surf_du_now[i], &dv = surf_dv_now[i];
-            const double ln = norm(n), lu = norm(du), lv = norm(dv);
-            if (!(ln > 0) || !(lu > 0) || !(lv > 0)) return;
-            const Vec3 unit = n / ln;
-            const double sine = dot(cross(du, dv), unit) / (lu * lv);
-            if (sine >= 0) return;
-            // d sine = (dS_u . (S_v x n) + dS_v . (n x S_u)) / (|S_u| |S_v|), scaled.
-            const double scale = o.turned_over_weight * ctx.diagonal * std::sqrt(surf_weight[i]);
-            const double k = scale / (lu * lv);
-            // At the current control points the row's sum is g_u . S_u + g_v . S_v, twice the
-            // scaled sine (S_u x S_v is quadratic in them); b makes the residual the scaled sine.
-            TurnedOverRow r{cross(dv, unit) * k, cross(unit, du) * k, 0, true};
-            r.b = dot(r.g_u, du) + dot(r.g_v, dv) - scale * sine;
-            turned_rows[direct ? surf_packed->slot_of[i] : i] = r;
+            if (turned_over_term) turned_rows[slot] = turned_over_row(i, n / len);
         });
         if (direct) {
             // The rows of each face's points, then the normal equations (design: normal_equations.h).
