@@ -412,11 +412,11 @@ double update_correspondences(const subdiv::LimitSurface& surface, std::vector<D
     const int n = static_cast<int>(data->size());
     std::vector<Vec3> points(n);
     for (int i = 0; i < n; ++i) points[i] = (*data)[i].p;
-    // 4 segments per face side: 32 triangles per face. Its index is built (in part on one
+    // kSeedSegments (4) per face side: 32 triangles per face. Its index is built (in part on one
     // thread: the triangles, Embree's build) while the local walks run.
-    auto building =
-        std::async(resolve_threads(threads) > 1 ? std::launch::async : std::launch::deferred,
-                   [&] { return std::make_unique<const detail::SurfaceProjector>(surface, 4, threads); });
+    auto building = std::async(
+        resolve_threads(threads) > 1 ? std::launch::async : std::launch::deferred,
+        [&] { return std::make_unique<const detail::SurfaceProjector>(surface, detail::kSeedSegments, threads); });
     // The local walks first: their distances bound the global search.
     std::vector<double> d2(n, std::numeric_limits<double>::infinity()), limit(n);
     parallel_for(n, threads, [&](int i) {

@@ -1,6 +1,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <optional>
 
 #include "detail/measure.h"
 #include "detail/sampling.h"
@@ -93,13 +94,19 @@ ErrorMeasurement measure(const MeasuredMesh& input, const subdiv::LimitSurface& 
     MeasureTimes& t = times ? *times : local;
     const Mesh& mesh = input.mesh;
     auto clock = std::chrono::steady_clock::now();
-    const SurfaceProjector projector(surface, face_segments(options.search_segments, level), options.threads);
+    const int segments = face_segments(options.search_segments, level);
+    const SurfaceProjector projector(surface, segments, options.threads);
+    // The input's projections are seeded from at least kSeedSegments a face (level 4 and finer);
+    // the surface's samples stay on `projector`'s parameter points, the same at every level.
+    std::optional<SurfaceProjector> finer;
+    if (segments < kSeedSegments) finer.emplace(surface, kSeedSegments, options.threads);
+    const SurfaceProjector& seeds = finer ? *finer : projector;
     t.evaluation += seconds_since(clock);
 
     // Input -> surface: area samples and every used vertex.
     clock = std::chrono::steady_clock::now();
     std::vector<double> d_in;  // the projection's own distances: no second evaluation of each foot
-    projector.project(input.points, &d_in);
+    seeds.project(input.points, &d_in);
     t.closest_points += seconds_since(clock);
     clock = std::chrono::steady_clock::now();
 
@@ -163,7 +170,9 @@ std::vector<double> distances_to_surface(const FittedSurface& surface, const std
                                          int search_segments, int threads) {
     if (surface.empty()) throw InvalidInput("distances_to_surface: the fitted surface is empty");
     if (search_segments < 1) throw InvalidInput("distances_to_surface: search_segments must be >= 1");
-    const detail::SurfaceProjector projector(surface.limit(), detail::face_segments(search_segments, surface.search_level()),
+    const detail::SurfaceProjector projector(surface.limit(),
+                                             std::max(detail::kSeedSegments,
+                                                      detail::face_segments(search_segments, surface.search_level())),
                                              threads);
     std::vector<double> out;
     projector.project(points, &out);  // throws on non-finite points

@@ -4,11 +4,13 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <limits>
 #include <nlohmann/json.hpp>
+#include <random>
 #include <sstream>
 #include <utility>
 
@@ -315,6 +317,41 @@ TEST(FitSurface, MeasureFindsNoErrorAgainstTheSurfaceItself) {
     const ErrorMeasurement again = measure_fit_error(layout.mesh, r.surface, same);
     EXPECT_NEAR(again.relative.rms, r.levels.back().relative.rms, 1e-12);
     EXPECT_NEAR(again.relative.hausdorff, r.levels.back().relative.hausdorff, 1e-12);
+}
+
+TEST(FitSurface, MeasuredDistancesAreNoLongerThanToAKnownPointOfTheSurface) {
+    // A level-4 surface over a torus cage (the issue fits genus 0 and 1 at level 4), rippled at
+    // the scale of two control faces, as a fit that has not settled leaves it. Each point lies off
+    // a known surface point along its normal, so its distance to the surface is at most that
+    // offset. A projection seeded from 2 segments a face (face_segments() at level 4) started in
+    // the wrong basin for 8 of these points and reported up to 5.5% more; torus.obj's level-4 fit
+    // reported a Hausdorff distance of 1.28e-3 where check_fit.py measures 6.7e-4. Seeded from
+    // kSeedSegments, none is over by 1% (33 still are by 0.1%: a seed is not a global search).
+    constexpr int kLevel = 4;
+    const subdiv::QuadMesh cage = test::torus_quads(4, 4);
+    subdiv::QuadMesh fine = subdiv::refine_uniform(cage, kLevel);
+    for (Vec3& p : fine.points) p = p * (1 + 0.06 * std::sin(30 * p[0]) * std::sin(30 * p[1]) * std::cos(30 * p[2]));
+    const FittedSurface surface(fine, kLevel, cage.num_quads());
+    std::vector<Vec3> points;
+    std::vector<double> offsets;
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    for (int i = 0; i < 50000; ++i) {
+        const subdiv::FacePoint f{static_cast<int>(unit(rng) * fine.num_quads()) % fine.num_quads(), unit(rng),
+                                  unit(rng)};
+        const subdiv::LimitPoint at = surface.evaluate(f);
+        const double offset = 0.04 * (2 * unit(rng) - 1);
+        points.push_back(at.position + at.normal * offset);
+        offsets.push_back(std::abs(offset));
+    }
+    const std::vector<double> d = distances_to_surface(surface, points);
+    int longer = 0;
+    double worst = 0;
+    for (size_t i = 0; i < d.size(); ++i) {
+        longer += d[i] > 1.01 * offsets[i] + 1e-9;
+        worst = std::max(worst, d[i] / (offsets[i] + 1e-9));
+    }
+    EXPECT_EQ(longer, 0) << "the worst measured " << worst << " times its known distance";
 }
 
 TEST(FitSurface, RejectsBadInput) {

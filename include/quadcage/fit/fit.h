@@ -286,9 +286,11 @@ std::vector<PolygonMesh> match_control_mesh(const std::vector<Mesh>& components,
 /// Options for measure_fit_error().
 struct MeasureOptions {
     int samples = 100000;      ///< Area samples per side (plus all vertices), >= 1.
-    /// Tessellation that seeds the projections and carries the surface samples, in segments per side
+    /// Tessellation that carries the surface samples and seeds the projections, in segments per side
     /// of a level-0 cage quad (so every level samples the same parameter points; each control face
-    /// gets max(1, search_segments / 2^max(level,1))), >= 1.
+    /// gets max(1, search_segments / 2^max(level,1))), >= 1. The input's projections are seeded
+    /// from at least 4 segments per control face side (finer levels would get 2 or 1, and a walk
+    /// from so coarse a seed can end on the wrong side of a bulge).
     int search_segments = 32;
     double tolerance = 1e-3;   ///< Relative threshold for within_tolerance, > 0.
     unsigned seed = 7;
