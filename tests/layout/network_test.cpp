@@ -148,5 +148,19 @@ TEST(LayoutNetwork, RelaxingACrowdedNetworkEvensOutItsPatches) {
         << plain.quality.patch_area_max_over_min << " -> " << out.quality.patch_area_max_over_min;
 }
 
+TEST(NetworkBalance, ExcessIsTheFartherOfTheTwoTargets) {
+    LayoutQuality q;
+    q.patch_area_max_over_min = 4.0;
+    q.corner_angle_mean_deviation_deg = 10.0;
+    EXPECT_NEAR(balance_excess(q), 1.0, 1e-12);
+    q.patch_area_max_over_min = 16.0;
+    EXPECT_NEAR(balance_excess(q), 2.0, 1e-12);
+    q.corner_angle_mean_deviation_deg = 60.0;
+    EXPECT_NEAR(balance_excess(q), 3.0, 1e-12);
+    q.patch_area_max_over_min = 0.5;  // below 1 only by rounding: counts as 1
+    q.corner_angle_mean_deviation_deg = 0.0;
+    EXPECT_EQ(balance_excess(q), 0.0);
+}
+
 }  // namespace
 }  // namespace quadcage::layout::detail

@@ -6,7 +6,8 @@
 #   - long protrusions: `generate limbs` (genus 0, a cube over a figure with limbs);
 #   - a big smooth body with a few small handles: `generate handles -g G`; with relief of its own
 #     (a figure's body with one small handle): `generate handles -g 1 --bumps 12`;
-#   - genus concentrated in one region: `generate handles -g G --in-a-row`;
+#   - genus concentrated in one region: `generate handles -g G --in-a-row` (for G = 1, the one
+#     handle at the edge of the body's top);
 #   - holes in a ring round a central handle, input_wheel's class: `generate wheel -g G`, with ribs
 #     round the hub (input_wheel's fins): `--ribs 16`; tessellated as input_wheel is, as a CAD
 #     system exports a solid (flat faces as fans of long, thin triangles): `--cad`, fitted with the
@@ -36,6 +37,7 @@ cases=(
   "limbs seed 20|limbs --limbs 5 --seed 20 -r 4||fine"
   "handles g1|handles -g 1 -r 3"
   "handles g1 bumps|handles -g 1 -r 3 --bumps 12"
+  "handles g1 at the edge|handles -g 1 -r 3 --in-a-row"
   "handles g2|handles -g 2 -r 3"
   "handles g3|handles -g 3 -r 3"
   "handles g3 in a row|handles -g 3 -r 3 --in-a-row"

@@ -252,10 +252,19 @@ void tighten_layout_curves(Builder& b, const Network& net, int g);
 std::string finish_network(const Builder& b, const Network& net, QuadLayout* L, const Say& say,
                            NetworkSeconds* seconds);
 
+/// Issue #20's balance targets: patch area max/min and mean corner angle deviation (degrees).
+inline constexpr double kAreaRatioTarget = 4.0;
+inline constexpr double kAngleDeviationTarget = 20.0;
+
+/// How far a layout's balance is from those targets, as the larger of log(area max/min) /
+/// log(kAreaRatioTarget) and the angle deviation / kAngleDeviationTarget: at most 1 when it meets
+/// both. The area ratio counts on a log scale: a ratio of 16 is twice as far off as one of 4.
+double balance_excess(const LayoutQuality& q);
+
 /// Relaxes the network's corners and edges (relax_layout_corners(), relax_layout_edges(); the
 /// options' sweeps) and builds the layout of the relaxed curves (finish_network()). Returns
 /// whether *out now holds a built and verified layout: the relaxed one, or for genus 1 the
-/// unrelaxed one where that is better in both balance figures; *b then holds its curves,
+/// unrelaxed one where its balance_excess() is smaller; *b then holds its curves,
 /// *s_cycle_ids its S-cycles, and *measured says whether out->quality was measured. Returns false,
 /// with everything unchanged, if nothing moved or the relaxed layout fails a check.
 bool relax_network(Builder* b, const Network& net, const QuadLayoutOptions& options, int g, const Say& say,
