@@ -40,6 +40,7 @@ cases=(
   "handles g1 at the edge|handles -g 1 -r 3 --in-a-row"
   "handles g2|handles -g 2 -r 3"
   "handles g3|handles -g 3 -r 3"
+  "handles g8|handles -g 8 -r 3"
   "handles g3 in a row|handles -g 3 -r 3 --in-a-row"
   "handles g5 in a row|handles -g 5 -r 3 --in-a-row"
   "wheel g7|wheel -g 7 -r 3"
