@@ -252,12 +252,13 @@ bool relax_network(Builder* b, const Network& net, const QuadLayoutOptions& opti
             }
         }
         if (keep_plain) {
-            char line[200];
+            char line[220];
             std::snprintf(line, sizeof line,
                           "keeping the layout unrelaxed: patch area max/min %.3g and corner angle deviation "
-                          "%.1f deg, the relaxed one's %.3g and %.1f deg (farther from 4 and 20 deg)",
+                          "%.1f deg, the relaxed one's %.3g and %.1f deg (farther from %g and %g deg)",
                           plain.quality.patch_area_max_over_min, plain.quality.corner_angle_mean_deviation_deg,
-                          trial.quality.patch_area_max_over_min, trial.quality.corner_angle_mean_deviation_deg);
+                          trial.quality.patch_area_max_over_min, trial.quality.corner_angle_mean_deviation_deg,
+                          kAreaRatioTarget, kAngleDeviationTarget);
             say(line);
             *b = std::move(*plain_builder);
             *out = std::move(plain);
