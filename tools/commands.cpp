@@ -268,7 +268,9 @@ int run_fit(const FitCommandOptions& o) {
         layout::QuadLayoutOptions layout_options;
         layout_options.progress = progress.callback("layout: ");
         apply(o.embedding, &layout_options);
-        result = fit::fit_mesh(prepared, o.mesh, layout_options, options);
+        // apply() leaves the scores empty for `--choose-s-cycles shape`, where fit_mesh() would fill them.
+        result = fit::fit_mesh(prepared, o.mesh, layout_options, options,
+                               o.embedding.choose_by_shape ? fit::SCycleChoice::Shape : fit::SCycleChoice::Fit);
     } else {
         progress.say("loading " + o.cage);
         const PolygonMesh cage = read_polygon_mesh(o.cage);

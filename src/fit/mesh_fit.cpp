@@ -70,7 +70,7 @@ std::string MeshFitReport::to_json() const {
 }
 
 MeshFit fit_mesh(const PreparedMesh& prepared, const std::string& input, const layout::QuadLayoutOptions& layout_options,
-                 const FitOptions& fit_options) {
+                 const FitOptions& fit_options, SCycleChoice choice) {
     const size_t nc = prepared.components.size();
     MeshFit out;
     out.report.input = input;
@@ -80,7 +80,7 @@ MeshFit fit_mesh(const PreparedMesh& prepared, const std::string& input, const l
         lo.progress = tagged(layout_options.progress, tag);
         FitOptions fo = fit_options;
         fo.progress = tagged(fit_options.progress, tag);
-        CageFit f = fit_cage(prepared.components[c], lo, fo);
+        CageFit f = fit_cage(prepared.components[c], lo, fo, choice);
         ComponentFitReport r = component_report(input, c, nc);
         r.layout = layout::layout_report(f.layout);
         r.layout_seconds = f.layout_seconds;

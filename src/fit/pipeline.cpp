@@ -44,14 +44,15 @@ std::function<double(const layout::QuadLayout&)> level2_fit_score(FitOptions opt
 }
 
 CageFit fit_cage(const Mesh& mesh, const layout::QuadLayoutOptions& layout_options,
-                 const FitOptions& fit_options) {
+                 const FitOptions& fit_options, SCycleChoice choice) {
     if (const std::string e = fit_options.validate(); !e.empty()) throw InvalidInput("fit options: " + e);
     using Clock = std::chrono::steady_clock;
     CageFit out;
     const Clock::time_point t0 = Clock::now();
     layout::QuadLayoutOptions chosen_by_fit = layout_options;
-    if (!chosen_by_fit.score) chosen_by_fit.score = level1_fit_score();
-    if (!chosen_by_fit.tie_score && !layout_options.score) chosen_by_fit.tie_score = level2_fit_score();
+    if (choice == SCycleChoice::Fit && !chosen_by_fit.score) chosen_by_fit.score = level1_fit_score();
+    if (choice == SCycleChoice::Fit && !chosen_by_fit.tie_score && !layout_options.score)
+        chosen_by_fit.tie_score = level2_fit_score();
     out.layout = layout::build_quad_layout(mesh, chosen_by_fit);
     const Clock::time_point t1 = Clock::now();
     out.fit = fit_surface(out.layout, fit_options);

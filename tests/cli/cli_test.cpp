@@ -261,7 +261,7 @@ TEST(CliUsage, BadUsageExitsTwo) {
 
 // --choose-s-cycles: by default a level-1 fit scores each S-cycle construction built and the best
 // is kept; `shape` keeps the rule on patch areas and corner angles, which on this body with two
-// small handles chooses another layout. Any other value is bad usage.
+// small handles chooses another layout, in `fit` as in `layout`. Any other value is bad usage.
 TEST(CliLayout, TheSCyclesAreChosenByALevelOneFitUnlessAskedOtherwise) {
     const fs::path dir = scratch_dir();
     const std::string mesh = (dir / "handles2.obj").string();
@@ -274,6 +274,11 @@ TEST(CliLayout, TheSCyclesAreChosenByALevelOneFitUnlessAskedOtherwise) {
     EXPECT_NE(by_fit.err.find("; scores "), std::string::npos) << by_fit.err;
     EXPECT_EQ(by_shape.err.find("; scores "), std::string::npos) << by_shape.err;
     EXPECT_NE(slurp(dir / "by_fit" / "layout.ply"), slurp(dir / "by_shape" / "layout.ply"));
+    const Outcome fit_by_shape = quadcage("fit '" + mesh + "' --level 0 --choose-s-cycles shape -o '" +
+                                          (dir / "fit_by_shape").string() + "'");
+    ASSERT_EQ(fit_by_shape.code, 0) << fit_by_shape.err;
+    EXPECT_EQ(fit_by_shape.err.find("; scores "), std::string::npos) << fit_by_shape.err;
+    EXPECT_EQ(slurp(dir / "fit_by_shape" / "layout.ply"), slurp(dir / "by_shape" / "layout.ply"));
     const Outcome bad = quadcage("layout '" + mesh + "' --choose-s-cycles best -o '" + (dir / "bad").string() + "'");
     EXPECT_EQ(bad.code, 2);
     EXPECT_NE(bad.err.find("--choose-s-cycles"), std::string::npos) << bad.err;

@@ -369,10 +369,18 @@ std::function<double(const layout::QuadLayout&)> level1_fit_score(FitOptions opt
 /// one, at 4 times the points). Deterministic.
 std::function<double(const layout::QuadLayout&)> level2_fit_score(FitOptions options = {});
 
+/// How fit_cage() chooses among the layout's S-cycle constructions where
+/// layout::QuadLayoutOptions::score is empty.
+enum class SCycleChoice {
+    Fit,   ///< By level1_fit_score(), ties by level2_fit_score() (default options).
+    Shape  ///< By the layout's rule on patch area max/min and corner angles (no score).
+};
+
 /// Mesh in, layout + fitted cage + report out: build_quad_layout() then fit_surface(). Where
-/// layout_options.score is empty, the layout is chosen with level1_fit_score() and its ties broken
-/// with level2_fit_score() (default options, as the CLI's `layout` and `fit` do, so both build the
-/// same layout). With default
+/// layout_options.score is empty and `choice` is SCycleChoice::Fit, the layout is chosen with
+/// level1_fit_score() and its ties broken with level2_fit_score() (default options, as the CLI's
+/// `layout` and `fit` do, so both build the same layout); with SCycleChoice::Shape by the rule, as
+/// `--choose-s-cycles shape` asks. With default
 /// options but for fit_options.level, this is what `quadcage fit MESH --level K` computes for each
 /// component (fit::fit_mesh() in quadcage/fit/mesh_fit.h calls it on every component of a mesh;
 /// fit::fit_report() and layout::layout_report() make its reports). Deterministic as both stages are. Coordinates and absolute errors are in the mesh's units.
@@ -380,6 +388,6 @@ std::function<double(const layout::QuadLayout&)> level2_fit_score(FitOptions opt
 ///      (core::prepare_for_quadding() splits and orients a general mesh).
 /// \throw InvalidInput if the mesh or the options are invalid.
 CageFit fit_cage(const Mesh& mesh, const layout::QuadLayoutOptions& layout_options = {},
-                 const FitOptions& fit_options = {});
+                 const FitOptions& fit_options = {}, SCycleChoice choice = SCycleChoice::Fit);
 
 }  // namespace quadcage::fit

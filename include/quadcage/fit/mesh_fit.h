@@ -69,11 +69,12 @@ struct MeshFit {
 
 /// fit_cage() on each component of `prepared` (layout, then fit), in order, with the reports
 /// `quadcage fit MESH` writes; `input` names the mesh in them. Each options' progress, if set, gets
-/// the component's messages prefixed "component i: " when there are several.
+/// the component's messages prefixed "component i: " when there are several. `choice` as fit_cage()'s.
 /// \pre prepared comes from core::prepare_for_quadding().
 /// \throw InvalidInput if the options are invalid or a component cannot be laid out (as fit_cage()).
 MeshFit fit_mesh(const PreparedMesh& prepared, const std::string& input,
-                 const layout::QuadLayoutOptions& layout_options = {}, const FitOptions& fit_options = {});
+                 const layout::QuadLayoutOptions& layout_options = {}, const FitOptions& fit_options = {},
+                 SCycleChoice choice = SCycleChoice::Fit);
 
 /// fit_control_mesh() on each component of `prepared` with its component of `cage`
 /// (match_control_mesh()), with the reports `quadcage fit MESH --cage CAGE` writes; `input` and
