@@ -177,6 +177,7 @@ void apply(const EmbeddingFlags& flags, layout::QuadLayoutOptions* options) {
     options->embedding_extract = flags.extract;
     options->embedding_area_weight = flags.area_weight;
     options->embedding_conformal_weight = flags.conformal_weight;
+    options->embedding_cone_conformal_weight = flags.cone_conformal_weight;
     options->embedding_cone_sweeps = flags.cone_sweeps;
     options->smooth_edges = !flags.staircase_edges;
     options->s_cycles_from_necks = !flags.no_necks;
@@ -213,6 +214,8 @@ std::vector<std::string> embedding_arguments(const EmbeddingFlags& flags) {
         args.insert(args.end(), {"--embedding-area-weight", exact_number(flags.area_weight)});
     if (flags.conformal_weight != defaults.conformal_weight)
         args.insert(args.end(), {"--embedding-conformal-weight", exact_number(flags.conformal_weight)});
+    if (flags.cone_conformal_weight != defaults.cone_conformal_weight)
+        args.insert(args.end(), {"--embedding-cone-conformal-weight", exact_number(flags.cone_conformal_weight)});
     if (flags.cone_sweeps != defaults.cone_sweeps)
         args.insert(args.end(), {"--embedding-cone-sweeps", std::to_string(flags.cone_sweeps)});
     if (flags.staircase_edges) args.push_back("--staircase-edges");

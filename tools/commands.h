@@ -35,6 +35,7 @@ struct EmbeddingFlags {
     bool extract = false;
     double area_weight = 0;
     double conformal_weight = 0;
+    double cone_conformal_weight = 0;
     int cone_sweeps = 0;
     bool staircase_edges = false;  ///< --staircase-edges: the layout edges not smoothed
     bool no_necks = false;         ///< --no-necks: the S-cycles from the handle loops, not the necks

@@ -48,6 +48,15 @@ std::vector<CLI::Option*> add_embedding_flags(CLI::App* cmd, quadcage::cli::Embe
             ->check(CLI::NonNegativeNumber));
     all.push_back(
         cmd->add_option(
+               "--embedding-cone-conformal-weight", flags.cone_conformal_weight,
+               "Extra weight of that conformal term near the corners, within a fifth of a patch side\n"
+               "(default 0): keeps the optimised map's corner angles. With --embedding-area-weight 10,\n"
+               "300 took skull's extracted layout to patch area max/min 3.61 and 8.8 deg (the default\n"
+               "layout: 7.92, 21.1 deg), but its level-3 fit got worse (README: Corner angles held in the\n"
+               "global embedding)")
+            ->check(CLI::NonNegativeNumber));
+    all.push_back(
+        cmd->add_option(
                "--embedding-cone-sweeps", flags.cone_sweeps,
                "Passes of cone relocation in the embedding (default 0; experimental): every corner\n"
                "moves along the surface down the energy's gradient, up to half a patch side per pass,\n"

@@ -174,6 +174,9 @@ struct Problem {
         double weight;
     };
     std::vector<Pull> pulls;
+    // EmbeddingOptions::cone_conformal_weight per triangle (empty: none), on top of conformal_weight.
+    std::vector<double> cone_conformal;
+    double conformal_at(int t) const { return conformal_weight + (cone_conformal.empty() ? 0.0 : cone_conformal[t]); }
 };
 
 Eigen::Matrix2d rotation_matrix(int quarter_turns) {
@@ -211,7 +214,7 @@ double energy(const Problem& p, const std::vector<UV>& x) {
         if (p.area[t] == 0) return;
         const Eigen::Matrix2d J = edge_matrix(u) * p.rest_inverse[t];
         terms[i] = p.area[t] * density(Eigen::Vector4d(J(0, 0), J(0, 1), J(1, 0), J(1, 1)), p.area_weight,
-                                       p.conformal_weight, p.eps, nullptr, nullptr, p.inverse_weight);
+                                       p.conformal_at(t), p.eps, nullptr, nullptr, p.inverse_weight);
     });
     double e = 0;
     for (const double term : terms) e += term;
@@ -373,6 +376,9 @@ std::string EmbeddingOptions::validate() const {
     if (!(tolerance >= 0)) return "tolerance must be >= 0";
     if (!(area_weight >= 0)) return "area_weight must be >= 0";
     if (!(conformal_weight >= 0)) return "conformal_weight must be >= 0";
+    if (!(cone_conformal_weight >= 0) || !std::isfinite(cone_conformal_weight))
+        return "cone_conformal_weight must be finite and >= 0";
+    if (!(cone_radius > 0) || !std::isfinite(cone_radius)) return "cone_radius must be finite and > 0";
     return "";
 }
 
@@ -445,6 +451,21 @@ EmbeddingReport newton(const QuadLayout& L, const Surface& s, const EmbeddingOpt
     p.area_weight = options.area_weight;
     p.conformal_weight = options.conformal_weight;
     p.inverse_weight = options.inverse_weight;
+    if (options.cone_conformal_weight > 0) {
+        // The triangles near the cones where the map has them now (relocate_cones() moves them).
+        const Mesh& mesh = L.mesh;
+        const double radius = options.cone_radius / std::sqrt(p.scale2);  // scale2: quads / area
+        p.cone_conformal.assign(mesh.num_triangles(), 0.0);
+        for (int t = 0; t < mesh.num_triangles(); ++t) {
+            const Triangle& tri = mesh.triangles[t];
+            const Vec3 c = (mesh.points[tri[0]] + mesh.points[tri[1]] + mesh.points[tri[2]]) / 3.0;
+            for (const int v : map->cone_vertex)
+                if (norm(c - mesh.points[v]) < radius) {
+                    p.cone_conformal[t] = options.cone_conformal_weight;
+                    break;
+                }
+        }
+    }
     if (anchors)
         for (const Anchor& a : *anchors) {
             const CornerRef& r = p.refs[a.triangle][a.corner];
@@ -494,7 +515,7 @@ EmbeddingReport newton(const QuadLayout& L, const Surface& s, const EmbeddingOpt
             const Eigen::Matrix2d J = edge_matrix(u) * Dinv;
             Eigen::Vector4d gJ;
             Eigen::Matrix4d hJ;
-            density(Eigen::Vector4d(J(0, 0), J(0, 1), J(1, 0), J(1, 1)), p.area_weight, p.conformal_weight,
+            density(Eigen::Vector4d(J(0, 0), J(0, 1), J(1, 0), J(1, 1)), p.area_weight, p.conformal_at(t),
                     p.eps, &gJ, &hJ, p.inverse_weight);
             // Projected onto the positive semi-definite cone; most densities are positive definite
             // already, which a 4 x 4 Cholesky tells far cheaper than an eigensolver.

@@ -51,6 +51,8 @@ std::string QuadLayoutOptions::validate() const {
         return "embedding_area_weight must be finite and >= 0";
     if (!(embedding_conformal_weight >= 0) || !std::isfinite(embedding_conformal_weight))
         return "embedding_conformal_weight must be finite and >= 0";
+    if (!(embedding_cone_conformal_weight >= 0) || !std::isfinite(embedding_cone_conformal_weight))
+        return "embedding_cone_conformal_weight must be finite and >= 0";
     return cycles.validate();
 }
 
@@ -553,6 +555,7 @@ QuadLayout build_layout_in_place(const Mesh& input, const QuadLayoutOptions& opt
         eo.iterations = options.embedding_iterations;
         eo.area_weight = options.embedding_area_weight;
         eo.conformal_weight = options.embedding_conformal_weight;
+        eo.cone_conformal_weight = options.embedding_cone_conformal_weight;
         detail::embedding_stage(&out, eo, options.embedding_cone_sweeps, options.embedding_extract, say);
         detail::measure_quality(&out);
         out.seconds.curves += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
