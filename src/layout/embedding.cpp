@@ -17,6 +17,7 @@
 #include "detail/patches.h"
 #include "detail/stages.h"
 #include "detail/surface.h"
+#include "detail/unrefine.h"
 #include "quadcage/core/errors.h"
 #include "quadcage/core/parallel.h"
 
@@ -1832,6 +1833,16 @@ void embedding_stage(QuadLayout* layout, const EmbeddingOptions& options, int co
     const std::string problem = extract_layout(*layout, map, &extracted);
     if (!problem.empty()) {
         say("embedding: keeping the layout as it was: " + problem);
+        return;
+    }
+    // Within the refinement bound, as every layout: the iso-lines cross the mesh's edges where they
+    // will (botijo's, with the area term 10 and the cone term 300, added 17,470 vertices against a
+    // bound of 16,689), so the splits no curve needs go first, then the rest as for the edges.
+    const long long bound = vertices_added_bound(extracted.input_vertices, extracted.cage.num_corners());
+    if (extracted.mesh.num_vertices() - extracted.input_vertices > bound) undo_unused_refinement(&extracted, say, bound);
+    if (const long long added = extracted.mesh.num_vertices() - extracted.input_vertices; added > bound) {
+        say("embedding: keeping the layout as it was: the extracted one adds " + std::to_string(added) +
+            " vertices, over the bound of " + std::to_string(bound));
         return;
     }
     measure_quality(&extracted);
