@@ -453,11 +453,12 @@ EmbeddingReport newton(const QuadLayout& L, const Surface& s, const EmbeddingOpt
     p.conformal_weight = options.conformal_weight;
     p.inverse_weight = options.inverse_weight;
     if (options.cone_conformal_weight > 0) {
-        // The triangles near the cones where the map has them now (relocate_cones() moves them).
+        // The triangles near the cones where the map has them now (relocate_cones() moves them);
+        // only those with an unknown carry energy (relocate_cones()' local solves free a few).
         const Mesh& mesh = L.mesh;
         const double radius = options.cone_radius / std::sqrt(p.scale2);  // scale2: quads / area
         p.cone_conformal.assign(mesh.num_triangles(), 0.0);
-        for (int t = 0; t < mesh.num_triangles(); ++t) {
+        for (const int t : p.active) {
             const Triangle& tri = mesh.triangles[t];
             const Vec3 c = (mesh.points[tri[0]] + mesh.points[tri[1]] + mesh.points[tri[2]]) / 3.0;
             for (const int v : map->cone_vertex)
