@@ -1803,6 +1803,8 @@ std::string extract_layout(const QuadLayout& L, const SeamlessMap& map_in, QuadL
     // start that map (with sides checked for agreement instead of arc length) fitted botijo better
     // at level 3 (check_fit.py 3.35e-4 / 4.83e-3 against 3.82e-4 / 6.47e-3) but two generated
     // bodies with handles far worse (handles -g 4 --in-a-row: Hausdorff 1.93e-2 against 4.42e-3).
+    // With the cone term (stop 66) it was still the worse start in RMS on skull, fertility and three
+    // generated bodies (skull 8.46e-4 / 1.43e-2 against 7.83e-4 / 1.06e-2; README).
     parameterize_patches(&out);
     if (const std::string problem = verify_quad_layout(out); !problem.empty()) return "the extracted layout fails its check: " + problem;
     *result = std::move(out);
