@@ -396,6 +396,7 @@ int run_generate(const GenerateOptions& o) {
         l.limbs = o.limbs;
         l.subdivisions = o.resolution;
         l.seed = o.seed;
+        l.fins = o.fins;
         mesh = shapes::body_with_limbs(l);
     } else if (o.shape == "handles") {
         shapes::HandleBodyOptions h;
@@ -403,6 +404,7 @@ int run_generate(const GenerateOptions& o) {
         h.resolution = std::max(2, o.resolution);
         h.in_a_row = o.in_a_row;
         h.bumps = o.bumps;
+        h.fins = o.fins;
         h.seed = o.seed;
         mesh = shapes::body_with_handles(h);
     } else if (o.shape == "wheel") {

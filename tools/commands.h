@@ -109,6 +109,7 @@ struct GenerateOptions {
     int limbs = 4;       ///< limbs only: protrusions.
     unsigned seed = 1;   ///< limbs: which figure; handles: where the bumps go.
     int bumps = 0;       ///< handles only: bumps and dents on the body.
+    int fins = 0;        ///< limbs, handles: thin, flat protrusions.
     int ribs = 0;        ///< wheel only: radial ribs round the hub.
     bool cad = false;    ///< wheel only: flat faces as fans of long, thin triangles (a CAD export's).
     std::string output;

@@ -326,13 +326,18 @@ int main(int argc, char** argv) {
                      "handles: smooth bumps and dents on the body below its top, a body with detail of\n"
                      "its own (default 0: a plain ball)")
         ->check(CLI::Range(0, 64));
+    gen_cmd
+        ->add_option("--fins", gen.fins,
+                     "limbs, handles: thin, flat protrusions (fins; handles: on the body below its\n"
+                     "middle), like a creature's (default 0)")
+        ->check(CLI::Range(0, 16));
     gen_cmd->add_option("--ribs", gen.ribs, "wheel: radial ribs one cell high round the hub (default 0)")
         ->check(CLI::Range(0, 64));
     gen_cmd->add_flag(
         "--cad", gen.cad,
         "wheel: its flat faces tessellated as a CAD system exports a solid: fans of long, thin\n"
         "triangles between the vertices of their borders (input_wheel's class)");
-    gen_cmd->add_option("--seed", gen.seed, "limbs: which figure; handles: where the bumps go (default 1)");
+    gen_cmd->add_option("--seed", gen.seed, "limbs: which figure; handles: where the bumps and fins go (default 1)");
     gen_cmd->add_option("-o,--output", gen.output, "Output file (.obj or .ply)")->required();
 
     SubdivideOptions sub;

@@ -35,6 +35,50 @@ void require_in(int value, int lo, int hi, const std::string& where, const std::
 
 Vec3 normalized(const Vec3& v) { return v / norm(v); }
 
+// A fin: points pushed out along their rays from a body's centre by up to `length` body radii
+// round `axis`, falling to 0 at `half_wide` radians from it along `wide` and, smoothly, at twice
+// `half_thin` along `thin` (both unit, orthogonal to the axis and to each other): a thin, flat
+// protrusion, as the limbs are round ones. Across, its profile is (1 - t^2 / 4)^3 (t: the angle
+// over half_thin), smooth to its foot, so a few vertices across it make its sides.
+struct Fin {
+    Vec3 axis, wide, thin;
+    double length, half_wide, half_thin;
+};
+
+// A fin round a random direction (z of the direction at most max_z) from uniform(), which gives
+// numbers in (0, 1): 17-29 degrees to its tip either way along it, 5 to 8 times less across.
+template <class Uniform>
+Fin random_fin(Uniform& uniform, double max_length, double max_z) {
+    Vec3 axis;
+    do {
+        const double z = 2 * uniform() - 1, phi = 2 * kPi * uniform();
+        const double r = std::sqrt(std::max(0.0, 1 - z * z));
+        axis = Vec3{r * std::cos(phi), r * std::sin(phi), z};
+    } while (axis.z > max_z);
+    // Any direction across the axis, from one more angle.
+    const Vec3 e1 = normalized(cross(axis, std::abs(axis.x) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0}));
+    const Vec3 e2 = cross(axis, e1);
+    const double turn = 2 * kPi * uniform();
+    const Vec3 wide = e1 * std::cos(turn) + e2 * std::sin(turn);
+    const double length = 1.0 + (max_length - 1.0) * uniform();
+    const double half_wide = 0.3 + 0.2 * uniform();
+    return {axis, wide, cross(axis, wide), length, half_wide, half_wide / (5 + 3 * uniform())};
+}
+
+// How far the fins push a point whose direction from the centre is the unit vector d (in body
+// radii, added to the radius).
+double fin_push(const std::vector<Fin>& fins, const Vec3& d) {
+    double add = 0;
+    for (const Fin& f : fins) {
+        const double a = dot(d, f.axis);
+        if (a <= 0) continue;
+        const double u = std::abs(std::atan2(dot(d, f.wide), a)) / f.half_wide;
+        const double t = std::atan2(dot(d, f.thin), a) / f.half_thin;
+        if (u < 1 && t * t < 4) add += f.length * std::pow(1 - u, 0.6) * std::pow(1 - t * t / 4, 3);
+    }
+    return add;
+}
+
 // ---------------------------------------------------------------------------------------------
 // plate_with_holes
 
@@ -331,6 +375,7 @@ Mesh plate_with_holes(int genus, const PlateOptions& options) {
 
 Mesh body_with_limbs(const LimbOptions& o) {
     require_in(o.limbs, 0, 32, "body_with_limbs", "limbs");
+    require_in(o.fins, 0, 16, "body_with_limbs", "fins");
     require_in(o.subdivisions, 1, 8, "body_with_limbs", "subdivisions");
     require(std::isfinite(o.max_length) && o.max_length > 0, "body_with_limbs: max_length must be positive and finite");
     std::mt19937 rng(o.seed);
@@ -349,9 +394,12 @@ Mesh body_with_limbs(const LimbOptions& o) {
         const double length = 1.0 + (o.max_length - 1.0) * uniform();
         limbs.push_back({d, length, 0.93 + 0.055 * uniform()});
     }
+    // Drawn after the limbs: a figure's limbs do not depend on its fins.
+    std::vector<Fin> fins;
+    for (int k = 0; k < o.fins; ++k) fins.push_back(random_fin(uniform, o.max_length, 1.0));
     Mesh mesh = icosphere(o.subdivisions, 1.0);
     for (Vec3& p : mesh.points) {
-        double r = 1.0;
+        double r = 1.0 + fin_push(fins, p);
         for (const Limb& l : limbs) {
             const double c = dot(p, l.axis);
             if (c > l.cos_width) r += l.length * std::pow((c - l.cos_width) / (1 - l.cos_width), 0.6);
@@ -367,6 +415,7 @@ Mesh body_with_handles(const HandleBodyOptions& o) {
     require_in(o.resolution, 2, 16, "body_with_handles", "resolution");
     require_in(o.smoothing, 0, 200, "body_with_handles", "smoothing");
     require_in(o.bumps, 0, 64, "body_with_handles", "bumps");
+    require_in(o.fins, 0, 16, "body_with_handles", "fins");
     // Handle slots on the top face (z = body, in cells): posts at (x, y) and (x + 2, y), the bar
     // over x..x+2 one cell higher. Spread: a grid of columns 4 cells apart and rows 2 apart, in
     // the middle of the face; in a row: side by side along y at x = 1, 2 cells apart.
@@ -413,7 +462,7 @@ Mesh body_with_handles(const HandleBodyOptions& o) {
         if (two > 0) p = centre + q * (inf / two);
     }
     taubin_smooth(&mesh, o.smoothing);
-    if (o.bumps > 0) {
+    if (o.bumps > 0 || o.fins > 0) {
         // Relief: each point moved along its ray from the centre by a factor 1 + a sum of Gaussian
         // bumps and dents (height 0.12..0.3 of the radius, width 0.25..0.5 radians) centred on
         // directions below the top's rim (direction z <= 0.4), faded out towards the top (nothing
@@ -433,6 +482,10 @@ Mesh body_with_handles(const HandleBodyOptions& o) {
             const double width = 0.25 + 0.25 * uniform();
             if (z <= 0.4) bumps.push_back({{r * std::cos(phi), r * std::sin(phi), z}, height, width});
         }
+        // Fins round directions below the body's middle (z <= 0), drawn after the bumps (a body's
+        // bumps do not depend on its fins), faded out towards the top as the bumps are.
+        std::vector<Fin> fins;
+        for (int k = 0; k < o.fins; ++k) fins.push_back(random_fin(uniform, 2.0, 0.0));
         for (Vec3& p : mesh.points) {
             const Vec3 q = p - centre;
             const double len = norm(q);
@@ -444,6 +497,7 @@ Mesh body_with_handles(const HandleBodyOptions& o) {
                 const double angle = std::acos(std::clamp(dot(d, b.dir), -1.0, 1.0));
                 factor += fade * b.height * std::exp(-0.5 * (angle / b.width) * (angle / b.width));
             }
+            factor += fade * fin_push(fins, d);
             if (factor != 1) p = centre + q * std::max(factor, 0.3);
         }
     }

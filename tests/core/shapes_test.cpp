@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <functional>
@@ -558,6 +559,115 @@ TEST(ShapesHandles, BumpsGiveTheBodyReliefAndKeepTheHandles) {
     }
     shapes::HandleBodyOptions bad = plain;
     bad.bumps = 65;
+    EXPECT_THROW(shapes::body_with_handles(bad), InvalidInput);
+}
+
+// The vertices of a figure pushed out past `radius` (one protrusion's, where there is one) and the
+// square roots of their covariance's eigenvalues, least first: their spread across and along.
+std::array<double, 3> spread_beyond(const Mesh& m, double radius) {
+    std::vector<Vec3> far;
+    for (const Vec3& p : m.points)
+        if (norm(p) > radius) far.push_back(p);
+    if (far.size() < 10) return {0, 0, 0};
+    Vec3 mean{0, 0, 0};
+    for (const Vec3& p : far) mean = mean + p / static_cast<double>(far.size());
+    double c[3][3] = {};
+    for (const Vec3& p : far) {
+        const Vec3 q = p - mean;
+        const double x[3] = {q.x, q.y, q.z};
+        for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 3; ++j) c[i][j] += x[i] * x[j] / static_cast<double>(far.size());
+    }
+    // Eigenvalues of the symmetric 3 x 3 matrix (the trigonometric solution of its characteristic
+    // cubic), least first.
+    const double p1 = c[0][1] * c[0][1] + c[0][2] * c[0][2] + c[1][2] * c[1][2];
+    const double q = (c[0][0] + c[1][1] + c[2][2]) / 3;
+    const double p2 = (c[0][0] - q) * (c[0][0] - q) + (c[1][1] - q) * (c[1][1] - q) + (c[2][2] - q) * (c[2][2] - q) + 2 * p1;
+    const double pp = std::sqrt(p2 / 6);
+    double b[3][3];
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) b[i][j] = (c[i][j] - (i == j ? q : 0)) / pp;
+    const double det = b[0][0] * (b[1][1] * b[2][2] - b[1][2] * b[2][1]) - b[0][1] * (b[1][0] * b[2][2] - b[1][2] * b[2][0]) +
+                       b[0][2] * (b[1][0] * b[2][1] - b[1][1] * b[2][0]);
+    const double phi = std::acos(std::clamp(det / 2, -1.0, 1.0)) / 3;
+    const double e_max = q + 2 * pp * std::cos(phi), e_min = q + 2 * pp * std::cos(phi + 2 * 3.14159265358979323846 / 3);
+    const double e_mid = 3 * q - e_max - e_min;
+    return {std::sqrt(std::max(e_min, 0.0)), std::sqrt(std::max(e_mid, 0.0)), std::sqrt(std::max(e_max, 0.0))};
+}
+
+// Fins (issue 20's long protrusions, the flat kind): a figure with one fin and no limb is closed,
+// of genus 0 and the same for the same seed, and what sticks out is flat, where a limb is round:
+// across the protrusion its spread one way is a fraction of the other's. Fins are drawn after the
+// limbs, so adding them leaves a figure's limbs where they were.
+TEST(ShapesLimbs, FinsAreFlatWhereLimbsAreRound) {
+    for (unsigned seed : {1u, 2u, 3u, 4u}) {
+        shapes::LimbOptions fin;
+        fin.seed = seed;
+        fin.limbs = 0;
+        fin.fins = 1;
+        fin.subdivisions = 5;
+        const Mesh m = shapes::body_with_limbs(fin);
+        const ValidationReport r = validate(m);
+        ASSERT_TRUE(r.quaddable()) << r.error_summary();
+        EXPECT_EQ(r.components[0].genus, 0);
+        EXPECT_EQ(shapes::body_with_limbs(fin).points, m.points);
+        shapes::LimbOptions limb = fin;
+        limb.limbs = 1;
+        limb.fins = 0;
+        // The body reaches about 1.4 from its centre; both protrusions are at least a body radius long.
+        const std::array<double, 3> f = spread_beyond(m, 1.8), l = spread_beyond(shapes::body_with_limbs(limb), 1.8);
+        ASSERT_GT(f[2], 0.0) << "seed " << seed;
+        ASSERT_GT(l[2], 0.0) << "seed " << seed;
+        // Seeds 1-12 gave 0.12-0.39 for a fin and 0.64-0.93 for a limb (the figure's squash into an
+        // uneven ellipsoid keeps a limb from being quite round).
+        EXPECT_LT(f[0] / f[1], 0.45) << "seed " << seed << ": " << f[0] / f[1];  // a fin: thin one way across
+        EXPECT_GT(l[0] / l[1], 0.55) << "seed " << seed << ": " << l[0] / l[1];  // a limb: round
+    }
+    shapes::LimbOptions limbs;
+    limbs.limbs = 3;
+    shapes::LimbOptions both = limbs;
+    both.fins = 2;
+    const Mesh a = shapes::body_with_limbs(limbs), b = shapes::body_with_limbs(both);
+    ASSERT_EQ(a.points.size(), b.points.size());
+    size_t unmoved = 0;  // the limbs are the same: only the fins' vertices move
+    for (size_t v = 0; v < a.points.size(); ++v) unmoved += a.points[v] == b.points[v];
+    EXPECT_GT(unmoved, a.points.size() / 2);
+    shapes::LimbOptions bad;
+    bad.fins = 17;
+    EXPECT_THROW(shapes::body_with_limbs(bad), InvalidInput);
+}
+
+// Fins on a body with handles (a creature with fins and handles): closed, manifold, of the genus
+// asked, the same for the same seed; they reach out from the body below its top and leave the
+// handles where they were.
+TEST(ShapesHandles, FinsReachOutAndKeepTheHandles) {
+    shapes::HandleBodyOptions plain;
+    plain.handles = 3;
+    plain.resolution = 2;
+    const Mesh ball = shapes::body_with_handles(plain);
+    const BoundingBox box = bounding_box(ball);
+    const double radius = 0.5 * (box.max.x - box.min.x);
+    for (unsigned seed : {1u, 2u}) {
+        shapes::HandleBodyOptions o = plain;
+        o.fins = 3;
+        o.seed = seed;
+        const Mesh m = shapes::body_with_handles(o);
+        const ValidationReport r = validate(m);
+        ASSERT_TRUE(r.quaddable()) << r.error_summary();
+        EXPECT_EQ(r.components[0].genus, 3);
+        EXPECT_EQ(shapes::body_with_handles(o).points, m.points);
+        ASSERT_EQ(m.points.size(), ball.points.size());
+        double moved = 0, top_moved = 0;
+        for (size_t v = 0; v < m.points.size(); ++v) {
+            const double d = norm(m.points[v] - ball.points[v]);
+            moved = std::max(moved, d);
+            if (ball.points[v].z > box.max.z - 2.0) top_moved = std::max(top_moved, d);  // the handles
+        }
+        EXPECT_GT(moved, 0.8 * radius) << "seed " << seed;  // fins 1-2 radii long, at their axis
+        EXPECT_EQ(top_moved, 0.0) << "seed " << seed;
+    }
+    shapes::HandleBodyOptions bad = plain;
+    bad.fins = 17;
     EXPECT_THROW(shapes::body_with_handles(bad), InvalidInput);
 }
 

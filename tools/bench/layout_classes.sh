@@ -3,7 +3,9 @@
 # `quadcage fit` and checked from outside: ../shared/tools/check_layout.py --quality (patch area
 # max/min, corner angle deviation on edge chords at 10% of their length) and check_fit.py (relative
 # RMS and Hausdorff of limit.ply). Classes:
-#   - long protrusions: `generate limbs` (genus 0, a cube over a figure with limbs);
+#   - long protrusions: `generate limbs` (genus 0, a cube over a figure with limbs), with fins
+#     (thin, flat protrusions: `--fins`), and fins on a body with handles (`handles --fins`, a
+#     creature with fins);
 #   - a big smooth body with a few small handles: `generate handles -g G`; with relief of its own
 #     (a figure's body with one small handle): `generate handles -g 1 --bumps 12`;
 #   - genus concentrated in one region: `generate handles -g G --in-a-row` (for G = 1, the one
@@ -12,7 +14,7 @@
 #     round the hub (input_wheel's fins): `--ribs 16`; tessellated as input_wheel is, as a CAD
 #     system exports a solid (flat faces as fans of long, thin triangles): `--cad`, fitted with the
 #     long edges split first (the default) and without (`--no-long-edge-splits`).
-# On the CAD rows and the limbs rows (whose triangles are stretched along the limbs)
+# On the CAD rows and the limbs and fins rows (whose triangles are stretched along them)
 # check_fit.py's nearest-centroid search misjudges the distance to the long, thin triangles
 # (README, "Shapes like the ones that fail"), so those rows also give, in brackets, its figures
 # against the same surface with every edge longer than the median split
@@ -35,6 +37,8 @@ trap 'rm -rf "$work"' EXIT
 cases=(
   "limbs seed 1|limbs --limbs 4 --seed 1 -r 4||fine"
   "limbs seed 20|limbs --limbs 5 --seed 20 -r 4||fine"
+  "limbs and fins|limbs --limbs 2 --fins 3 --seed 3 -r 5||fine"
+  "handles g3 fins|handles -g 3 -r 3 --fins 3||fine"
   "handles g1|handles -g 1 -r 3"
   "handles g1 bumps|handles -g 1 -r 3 --bumps 12"
   "handles g1 at the edge|handles -g 1 -r 3 --in-a-row"

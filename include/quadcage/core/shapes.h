@@ -78,13 +78,18 @@ struct LimbOptions {
     int subdivisions = 4;     ///< Of the icosphere it is made from (20 * 4^s triangles), 1..8.
     unsigned seed = 1;        ///< Chooses the limbs' directions, lengths and widths.
     double max_length = 4.0;  ///< Longest possible limb, in body radii (> 0, finite).
+    int fins = 0;             ///< Thin, flat protrusions besides the limbs, 0..16 (the same
+                              ///< seed draws the same limbs whatever the fins).
 };
 
 /// A genus-0 figure with limbs, the shape class of cartoon characters and animals: an icosphere
 /// squashed into an uneven ellipsoid (x by 1 + 0.3 z, y by 0.8, z by 1.3) whose points within a
 /// cone around each of `limbs` random directions are pushed out radially, by up to 1..max_length
-/// body radii at the cone's axis (cone half-angles 10-21 degrees). Every direction and size comes
-/// from a std::mt19937 seeded with `seed` (the same figure everywhere). Closed, manifold, genus 0.
+/// body radii at the cone's axis (cone half-angles 10-21 degrees). With `fins`, as many fins too:
+/// round a random direction, points pushed out the same way within 17-29 degrees of it one way and,
+/// falling smoothly, within 2/5 to 2/3 of that the other: a flat protrusion a few degrees thick.
+/// Every direction and size comes from a std::mt19937 seeded with `seed` (the same figure
+/// everywhere). Closed, manifold, genus 0.
 /// \throw InvalidInput if the options are out of range.
 Mesh body_with_limbs(const LimbOptions& options = {});
 
@@ -100,7 +105,9 @@ struct HandleBodyOptions {
     int smoothing = 12;       ///< Taubin smoothing passes (lambda 0.5, mu -0.53) that round the voxels, 0..200.
     int bumps = 0;            ///< Smooth bumps and dents on the body away from its top, 0..64: a body
                               ///< with detail of its own (a figure's head, limbs), not a plain ball.
-    unsigned seed = 1;        ///< With bumps: chooses their places, sizes and signs.
+    int fins = 0;             ///< Thin, flat protrusions (fins) on the body below its middle, 0..16,
+                              ///< 1 to 2 body radii long: a creature with fins and handles.
+    unsigned seed = 1;        ///< With bumps or fins: chooses their places, sizes and signs.
 };
 
 /// A big smooth body with small handles, the shape class whose minimal layouts crowd their corners
@@ -110,8 +117,9 @@ struct HandleBodyOptions {
 /// posts two cells apart joined by a 1-cell bar on top, so its hole is one cell wide and high; two
 /// handles are at least one cell apart, so no two voxels touch along an edge or a corner alone.
 /// The voxel solid's boundary (each voxel face 2 triangles) is closed, manifold and of genus
-/// `handles`; the map (injective along each ray) and Taubin smoothing move the points only.
-/// Deterministic.
+/// `handles`; the map (injective along each ray) and Taubin smoothing move the points only, and so
+/// do the bumps and the fins (as body_with_limbs()' fins, round directions below the middle), each
+/// point along its ray from the centre, away from the top. Deterministic.
 /// \throw InvalidInput if the options are out of range or the mesh would pass 1e8 triangles.
 Mesh body_with_handles(const HandleBodyOptions& options = {});
 
