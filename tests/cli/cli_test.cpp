@@ -215,6 +215,31 @@ TEST(CliInfo, GeneratedWheelsHaveTheirGenus) {
     EXPECT_FALSE(fs::exists(none));
 }
 
+// `generate limbs|handles --fins F` reaches the generators: the fins change the figure (more area,
+// the same vertex count, the same genus); more than 16 is bad usage (exit 2) and writes nothing.
+TEST(CliGenerate, TheFinsFlagReachesLimbsAndHandles) {
+    const fs::path dir = scratch_dir();
+    for (const std::string shape : {"limbs --limbs 1 -r 3", "handles -g 1 -r 2"}) {
+        nlohmann::json info[2];
+        for (int fins : {0, 2}) {
+            const fs::path file = dir / ("fins" + std::to_string(fins) + ".obj");
+            const Outcome gen =
+                quadcage("generate " + shape + " --fins " + std::to_string(fins) + " -o '" + file.string() + "'");
+            ASSERT_EQ(gen.code, 0) << gen.err;
+            const Outcome r = quadcage("info --json '" + file.string() + "'");
+            ASSERT_EQ(r.code, 0) << r.err;
+            info[fins / 2] = nlohmann::json::parse(r.out);
+        }
+        EXPECT_EQ(info[0]["components"][0]["genus"], info[1]["components"][0]["genus"]) << shape;
+        EXPECT_EQ(info[0]["components"][0]["vertices"], info[1]["components"][0]["vertices"]) << shape;
+        EXPECT_GT(info[1]["components"][0]["area"].get<double>(), 1.05 * info[0]["components"][0]["area"].get<double>())
+            << shape;
+    }
+    const fs::path bad = dir / "fins17.obj";
+    EXPECT_EQ(quadcage("generate limbs --fins 17 -o '" + bad.string() + "'").code, 2);
+    EXPECT_FALSE(fs::exists(bad));
+}
+
 // generate and subdivide write OBJ or PLY by the output's extension; any other name is refused
 // before any work, with exit code 3 and no file, instead of OBJ text under another format's name.
 TEST(CliGenerate, RefusesAnOutputNamedForAnotherFormat) {
