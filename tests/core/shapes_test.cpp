@@ -529,6 +529,30 @@ TEST(ShapesHandles, ClosedManifoldOfTheGenusAskedDeterministicBigBodySmallHandle
     EXPECT_THROW(shapes::body_with_handles(bad), InvalidInput);
 }
 
+// A body with handles given relief (bumps, fins) against the same body without: checks it is closed,
+// manifold, of the same genus, the same for the same options and the same voxels moved; returns
+// how far its vertices moved at most, overall and within `top_depth` of the top (the handles).
+std::array<double, 2> relief_moves(const shapes::HandleBodyOptions& plain, const shapes::HandleBodyOptions& o,
+                                   double top_depth) {
+    const Mesh ball = shapes::body_with_handles(plain), m = shapes::body_with_handles(o);
+    const ValidationReport r = validate(m);
+    EXPECT_TRUE(r.quaddable()) << r.error_summary();
+    if (!r.quaddable() || m.points.size() != ball.points.size()) {
+        ADD_FAILURE() << "not the same voxels moved";
+        return {0, 0};
+    }
+    EXPECT_EQ(r.components[0].genus, plain.handles);
+    EXPECT_EQ(shapes::body_with_handles(o).points, m.points);
+    std::array<double, 2> moved{0, 0};
+    const double top = bounding_box(ball).max.z;
+    for (size_t v = 0; v < m.points.size(); ++v) {
+        const double d = norm(m.points[v] - ball.points[v]);
+        moved[0] = std::max(moved[0], d);
+        if (ball.points[v].z > top - top_depth) moved[1] = std::max(moved[1], d);
+    }
+    return moved;
+}
+
 // With bumps the body has relief of its own (issue #20's genus-1 figure, whose body carries the
 // detail): still closed, manifold, of the genus asked and the same for the same seed; the relief
 // changes the body below the top and leaves the handles on the top where they were.
@@ -536,26 +560,13 @@ TEST(ShapesHandles, BumpsGiveTheBodyReliefAndKeepTheHandles) {
     shapes::HandleBodyOptions plain;
     plain.handles = 1;
     plain.resolution = 2;
-    const Mesh ball = shapes::body_with_handles(plain);
     for (unsigned seed : {1u, 2u, 3u}) {
         shapes::HandleBodyOptions o = plain;
         o.bumps = 12;
         o.seed = seed;
-        const Mesh m = shapes::body_with_handles(o);
-        const ValidationReport r = validate(m);
-        ASSERT_TRUE(r.quaddable()) << r.error_summary();
-        EXPECT_EQ(r.components[0].genus, 1);
-        EXPECT_EQ(shapes::body_with_handles(o).points, m.points);
-        ASSERT_EQ(m.points.size(), ball.points.size());  // the same voxels, moved
-        double moved = 0, top_moved = 0;
-        const double top = bounding_box(ball).max.z;
-        for (size_t v = 0; v < m.points.size(); ++v) {
-            const double d = norm(m.points[v] - ball.points[v]);
-            moved = std::max(moved, d);
-            if (ball.points[v].z > top - 1.0) top_moved = std::max(top_moved, d);  // the handles' cell
-        }
-        EXPECT_GT(moved, 0.5) << "seed " << seed;
-        EXPECT_EQ(top_moved, 0.0) << "seed " << seed;
+        const std::array<double, 2> moved = relief_moves(plain, o, 1.0);  // the handles' cell
+        EXPECT_GT(moved[0], 0.5) << "seed " << seed;
+        EXPECT_EQ(moved[1], 0.0) << "seed " << seed;
     }
     shapes::HandleBodyOptions bad = plain;
     bad.bumps = 65;
@@ -644,27 +655,15 @@ TEST(ShapesHandles, FinsReachOutAndKeepTheHandles) {
     shapes::HandleBodyOptions plain;
     plain.handles = 3;
     plain.resolution = 2;
-    const Mesh ball = shapes::body_with_handles(plain);
-    const BoundingBox box = bounding_box(ball);
+    const BoundingBox box = bounding_box(shapes::body_with_handles(plain));
     const double radius = 0.5 * (box.max.x - box.min.x);
     for (unsigned seed : {1u, 2u}) {
         shapes::HandleBodyOptions o = plain;
         o.fins = 3;
         o.seed = seed;
-        const Mesh m = shapes::body_with_handles(o);
-        const ValidationReport r = validate(m);
-        ASSERT_TRUE(r.quaddable()) << r.error_summary();
-        EXPECT_EQ(r.components[0].genus, 3);
-        EXPECT_EQ(shapes::body_with_handles(o).points, m.points);
-        ASSERT_EQ(m.points.size(), ball.points.size());
-        double moved = 0, top_moved = 0;
-        for (size_t v = 0; v < m.points.size(); ++v) {
-            const double d = norm(m.points[v] - ball.points[v]);
-            moved = std::max(moved, d);
-            if (ball.points[v].z > box.max.z - 2.0) top_moved = std::max(top_moved, d);  // the handles
-        }
-        EXPECT_GT(moved, 0.8 * radius) << "seed " << seed;  // fins 1-2 radii long, at their axis
-        EXPECT_EQ(top_moved, 0.0) << "seed " << seed;
+        const std::array<double, 2> moved = relief_moves(plain, o, 2.0);  // the handles' two cells
+        EXPECT_GT(moved[0], 0.8 * radius) << "seed " << seed;  // fins 1-2 radii long, at their axis
+        EXPECT_EQ(moved[1], 0.0) << "seed " << seed;
     }
     shapes::HandleBodyOptions bad = plain;
     bad.fins = 17;
