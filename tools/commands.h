@@ -107,7 +107,7 @@ struct GenerateOptions {
                          ///< handles, wheel: voxels per cell.
     bool in_a_row = false;  ///< handles only: side by side along one edge.
     int limbs = 4;       ///< limbs only: protrusions.
-    unsigned seed = 1;   ///< limbs: which figure; handles: where the bumps go.
+    unsigned seed = 1;   ///< limbs: which figure; handles: where the bumps and fins go.
     int bumps = 0;       ///< handles only: bumps and dents on the body.
     int fins = 0;        ///< limbs, handles: thin, flat protrusions.
     int ribs = 0;        ///< wheel only: radial ribs round the hub.

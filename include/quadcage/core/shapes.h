@@ -87,7 +87,7 @@ struct LimbOptions {
 /// cone around each of `limbs` random directions are pushed out radially, by up to 1..max_length
 /// body radii at the cone's axis (cone half-angles 10-21 degrees). With `fins`, as many fins too:
 /// round a random direction, points pushed out the same way within 17-29 degrees of it one way and,
-/// falling smoothly, within 2/5 to 2/3 of that the other: a flat protrusion a few degrees thick.
+/// falling smoothly, within 1/4 to 2/5 of that the other: a flat protrusion a few degrees thick.
 /// Every direction and size comes from a std::mt19937 seeded with `seed` (the same figure
 /// everywhere). Closed, manifold, genus 0.
 /// \throw InvalidInput if the options are out of range.
