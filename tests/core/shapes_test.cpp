@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Dense>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -582,28 +584,13 @@ std::array<double, 3> spread_beyond(const Mesh& m, double radius) {
     if (far.size() < 10) return {0, 0, 0};
     Vec3 mean{0, 0, 0};
     for (const Vec3& p : far) mean = mean + p / static_cast<double>(far.size());
-    double c[3][3] = {};
+    Eigen::Matrix3d c = Eigen::Matrix3d::Zero();
     for (const Vec3& p : far) {
-        const Vec3 q = p - mean;
-        const double x[3] = {q.x, q.y, q.z};
-        for (int i = 0; i < 3; ++i)
-            for (int j = 0; j < 3; ++j) c[i][j] += x[i] * x[j] / static_cast<double>(far.size());
+        const Eigen::Vector3d q(p.x - mean.x, p.y - mean.y, p.z - mean.z);
+        c += q * q.transpose() / static_cast<double>(far.size());
     }
-    // Eigenvalues of the symmetric 3 x 3 matrix (the trigonometric solution of its characteristic
-    // cubic), least first.
-    const double p1 = c[0][1] * c[0][1] + c[0][2] * c[0][2] + c[1][2] * c[1][2];
-    const double q = (c[0][0] + c[1][1] + c[2][2]) / 3;
-    const double p2 = (c[0][0] - q) * (c[0][0] - q) + (c[1][1] - q) * (c[1][1] - q) + (c[2][2] - q) * (c[2][2] - q) + 2 * p1;
-    const double pp = std::sqrt(p2 / 6);
-    double b[3][3];
-    for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) b[i][j] = (c[i][j] - (i == j ? q : 0)) / pp;
-    const double det = b[0][0] * (b[1][1] * b[2][2] - b[1][2] * b[2][1]) - b[0][1] * (b[1][0] * b[2][2] - b[1][2] * b[2][0]) +
-                       b[0][2] * (b[1][0] * b[2][1] - b[1][1] * b[2][0]);
-    const double phi = std::acos(std::clamp(det / 2, -1.0, 1.0)) / 3;
-    const double e_max = q + 2 * pp * std::cos(phi), e_min = q + 2 * pp * std::cos(phi + 2 * 3.14159265358979323846 / 3);
-    const double e_mid = 3 * q - e_max - e_min;
-    return {std::sqrt(std::max(e_min, 0.0)), std::sqrt(std::max(e_mid, 0.0)), std::sqrt(std::max(e_max, 0.0))};
+    const Eigen::Vector3d e = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(c, Eigen::EigenvaluesOnly).eigenvalues();
+    return {std::sqrt(std::max(e[0], 0.0)), std::sqrt(std::max(e[1], 0.0)), std::sqrt(std::max(e[2], 0.0))};
 }
 
 // Fins (issue 20's long protrusions, the flat kind): a figure with one fin and no limb is closed,
