@@ -57,8 +57,9 @@ def main():
     patch_area = np.bincount(patch, area, minlength=a.quads)
     rel_area = patch_area / patch_area.mean()
     rms = np.sqrt(sq / np.maximum(count, 1)) / diag
-    median = np.array([np.median(aspect[patch == i]) for i in range(a.quads)])
-    p90 = np.array([np.quantile(aspect[patch == i], 0.9) for i in range(a.quads)])
+    # Patch i is the i-th run of `per` triangles: one row each.
+    median = np.median(aspect.reshape(a.quads, per), axis=1)
+    p90 = np.quantile(aspect.reshape(a.quads, per), 0.9, axis=1)
     keep = count > 0
     corr = lambda x: float(np.corrcoef(x[keep], rms[keep])[0, 1])  # noqa: E731
     print('%s: %d patches; surface->input RMS %.3e over %d samples' % (
