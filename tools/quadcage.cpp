@@ -64,7 +64,7 @@ std::vector<CLI::Option*> add_embedding_flags(CLI::App* cmd, quadcage::cli::Embe
             ->check(CLI::NonNegativeNumber));
     all.push_back(cmd->add_flag(
         "--no-necks", flags.no_necks,
-        "Do not build the layout with S-cycles round the surface's necks (by default, genus 2-12: the\n"
+        "Do not build the layout with S-cycles round the surface's necks (by default, genus 2-33: the\n"
         "shortest loops that cut it into pairs of pants, joined in pairs into T-shirts; that layout\n"
         "is kept when it is the better, see --choose-s-cycles, and the README). Saves its time"));
     all.push_back(cmd->add_flag(

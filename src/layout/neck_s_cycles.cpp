@@ -11,6 +11,7 @@
 #include <optional>
 #include <string>
 #include <thread>
+#include <unordered_map>
 #include <unordered_set>
 #include <utility>
 #include <vector>
@@ -26,10 +27,12 @@ namespace quadcage::layout::detail {
 namespace {
 
 // Candidates per hole: loops near its kNearHoles nearest holes; kSamples points of each path the
-// loops cross. kMaxMatchedPants: the matching is exact over subsets of the pants.
+// loops cross. kMaxMatchedPants: the pants matched (one bit each); kMaxMatchingStates: the sets of
+// them the exact matching may visit before it gives up.
 constexpr int kNearHoles = 3;
 constexpr int kSamples = 6;
-constexpr int kMaxMatchedPants = 22;
+constexpr int kMaxMatchedPants = 64;
+constexpr size_t kMaxMatchingStates = size_t{1} << 20;
 // How many times the search makes room (splits chords beside the loops) when a piece that must be
 // cut has no candidate.
 constexpr int kRoomAttempts = 2;
@@ -360,30 +363,59 @@ private:
 }  // namespace
 
 std::optional<std::vector<char>> pants_matching(const std::vector<std::array<int, 2>>& ends,
-                                                const std::vector<double>& lengths, int pants) {
+                                                const std::vector<double>& lengths, int pants, bool* too_many) {
     QC_CHECK(pants >= 0 && pants <= kMaxMatchedPants && ends.size() == lengths.size(),
              "pants_matching: " + std::to_string(pants) + " pants");
-    std::vector<double> value(size_t{1} << pants, -kInf);
-    std::vector<int> choice(size_t{1} << pants, -1);
-    value[0] = 0;
-    for (std::uint32_t set = 1; set < (1u << pants); ++set) {
-        if (__builtin_popcount(set) % 2) continue;
-        const int low = __builtin_ctz(set);  // matched first: each matching is built once
-        for (size_t e = 0; e < ends.size(); ++e) {
-            const int a = ends[e][0], z = ends[e][1];
-            if (a == z || (a != low && z != low) || !(set >> a & 1) || !(set >> z & 1)) continue;
-            const std::uint32_t rest = set & ~(1u << a) & ~(1u << z);
-            if (value[rest] > -kInf && value[rest] + lengths[e] > value[set])
-                value[set] = value[rest] + lengths[e], choice[set] = static_cast<int>(e);
-        }
+    if (too_many) *too_many = false;
+    // The loops at each pair of pants (a loop with both sides on one cannot be dropped).
+    std::vector<std::vector<int>> at(pants);
+    for (size_t e = 0; e < ends.size(); ++e)
+        if (ends[e][0] != ends[e][1]) at[ends[e][0]].push_back(static_cast<int>(e)), at[ends[e][1]].push_back(static_cast<int>(e));
+    // The pants numbered breadth first, so that the pants matched at any point of the search are
+    // the first ones but for a few near the frontier: the matched sets it meets stay few.
+    std::vector<int> order, rank(pants, -1);
+    for (int root = 0; root < pants; ++root) {
+        if (rank[root] >= 0) continue;
+        rank[root] = static_cast<int>(order.size()), order.push_back(root);
+        for (size_t i = order.size() - 1; i < order.size(); ++i)
+            for (const int e : at[order[i]]) {
+                const int z = ends[e][0] == order[i] ? ends[e][1] : ends[e][0];
+                if (rank[z] < 0) rank[z] = static_cast<int>(order.size()), order.push_back(z);
+            }
     }
-    std::uint32_t set = (1u << pants) - 1;
-    if (choice[set] < 0) return std::nullopt;
+    // best(matched): the greatest length the unmatched pants can drop, matching the first unmatched
+    // one (in that order) first, so that each matching is built once; memoised on the matched set.
+    using Set = std::uint64_t;
+    const Set all = pants == 64 ? ~Set{0} : (Set{1} << pants) - 1;
+    std::unordered_map<Set, std::pair<double, int>> memo;  // best, and the loop dropped there
+    bool overflow = false;
+    std::function<double(Set)> best = [&](Set matched) -> double {
+        if (matched == all) return 0;
+        if (const auto it = memo.find(matched); it != memo.end()) return it->second.first;
+        if (memo.size() >= kMaxMatchingStates) {
+            overflow = true;
+            return -kInf;
+        }
+        const int first = __builtin_ctzll(~matched);
+        double value = -kInf;
+        int choice = -1;
+        for (const int e : at[order[first]]) {
+            const int z = rank[ends[e][0] == order[first] ? ends[e][1] : ends[e][0]];
+            if (matched >> z & 1) continue;
+            const double rest = best(matched | Set{1} << first | Set{1} << z);
+            if (rest > -kInf && rest + lengths[e] > value) value = rest + lengths[e], choice = e;
+        }
+        memo.emplace(matched, std::pair{value, choice});
+        return value;
+    };
+    const double most = best(0);
+    if (too_many) *too_many = overflow;
+    if (overflow || !(most > -kInf)) return std::nullopt;
     std::vector<char> dropped(ends.size(), 0);
-    while (set) {
-        const int e = choice[set];
+    for (Set matched = 0; matched != all;) {
+        const int e = memo.at(matched).second;
         dropped[e] = 1;
-        set &= ~(1u << ends[e][0]) & ~(1u << ends[e][1]);
+        matched |= Set{1} << rank[ends[e][0]] | Set{1} << rank[ends[e][1]];
     }
     return dropped;
 }
@@ -404,9 +436,11 @@ std::optional<std::vector<int>> neck_s_cycles(Builder& b, int g, const Say& say)
     std::vector<std::array<int, 2>> ends;
     for (int l : loops)
         ends.push_back({c.label[triangle_beside(w.s_, w.curves_[l], 0)], c.label[triangle_beside(w.s_, w.curves_[l], 1)]});
-    const auto dropped = pants_matching(ends, search.lengths(), c.count);
+    bool too_many = false;
+    const auto dropped = pants_matching(ends, search.lengths(), c.count, &too_many);
     if (!dropped) {
-        say("necks: the pairs of pants have no perfect matching");
+        say(too_many ? "necks: the pairs of pants have too many matchings to compare"
+                     : "necks: the pairs of pants have no perfect matching");
         return std::nullopt;
     }
     std::vector<int> kept;

@@ -155,13 +155,15 @@ bool tube_loops(Builder& w, const std::vector<int>& loops, double unit, std::vec
 /// The loops to drop so that `pants` pairs of pants join in pairs into T-shirts: a perfect matching
 /// of the pants graph (a node per pair of pants, an edge per loop: ends[e], a loop with both sides
 /// on one pair of pants cannot be dropped) of the greatest total length, so that the loops kept are
-/// the shortest possible. Per loop, 1 if dropped. Exact (over subsets of the pants, at most 22).
-/// Empty if there is no perfect matching.
+/// the shortest possible. Per loop, 1 if dropped. Exact: a search over the sets of pants matched so
+/// far, memoised (at most 64 pants). Empty if there is no perfect matching, or if the search meets
+/// too many sets (then *too_many is set).
 std::optional<std::vector<char>> pants_matching(const std::vector<std::array<int, 2>>& ends,
-                                                const std::vector<double>& lengths, int pants);
-/// The highest genus neck_s_cycles() tries: its 2g - 2 pairs of pants are matched exactly over
-/// subsets (pants_matching(), at most 22).
-inline constexpr int kMaxNeckGenus = 12;
+                                                const std::vector<double>& lengths, int pants,
+                                                bool* too_many = nullptr);
+/// The highest genus neck_s_cycles() tries: its 2g - 2 pairs of pants are matched by
+/// pants_matching(), at most 64.
+inline constexpr int kMaxNeckGenus = 33;
 /// S-cycles round the 2g - 2 shortest loops of a pants decomposition that pair into T-shirts
 /// (neck_s_cycles.cpp); b gets them. Empty (b unchanged) where none is found, and for g above
 /// kMaxNeckGenus.
