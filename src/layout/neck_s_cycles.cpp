@@ -76,6 +76,28 @@ Split split_by(const Surface& s, const Cut& cut, int piece, const Builder& b, co
     return out;
 }
 
+// Whether closed curve `loop` separates the closed surface: a flood from one side that does not
+// cross it misses the other.
+bool separates_surface(const Surface& s, const Cycle& loop) {
+    std::unordered_set<std::uint64_t> own;
+    for (size_t i = 0; i < loop.size(); ++i) own.insert(edge_key(loop[i], loop[(i + 1) % loop.size()]));
+    const int other_side = triangle_beside(s, loop, 1);
+    std::vector<char> seen(s.num_half_edges() / 3, 0);
+    std::vector<int> stack{triangle_beside(s, loop, 0)};
+    seen[stack[0]] = 1;
+    while (!stack.empty()) {
+        const int t = stack.back();
+        stack.pop_back();
+        for (int k = 0; k < 3; ++k) {
+            const int h = 3 * t + k, u = s.twin(h) / 3;
+            if (seen[u] || own.count(edge_key(s.from(h), s.to(h)))) continue;
+            if (u == other_side) return false;
+            seen[u] = 1, stack.push_back(u);
+        }
+    }
+    return true;
+}
+
 struct Candidate {
     Cycle loop;
     double length = 0;
@@ -84,7 +106,10 @@ struct Candidate {
 // The greedy pants decomposition: the loops so far and the candidates not yet taken.
 class PantsSearch {
 public:
-    PantsSearch(Builder& w, int g) : w_(w), g_(g) {}
+    // `nonseparating`: only loops that do not separate the closed surface. Then no loop is a bridge
+    // of the pants graph and none has both sides on one pair of pants, so the graph (cubic) has a
+    // perfect matching (Petersen's theorem).
+    PantsSearch(Builder& w, int g, bool nonseparating) : w_(w), g_(g), nonseparating_(nonseparating) {}
 
     // Cuts the surface into 2g - 2 pairs of pants; false if a piece has no loop left to cut it.
     bool run(const Say& say) {
@@ -93,10 +118,18 @@ public:
             refresh();
             std::optional<Candidate> best = take();
             for (int room = 0; !best && room <= kRoomAttempts; ++room) {
-                // Every piece that must still be cut, searched in full.
-                for (int piece = 0; piece < cut_.count; ++piece)
-                    if (!done(piece)) generate(piece, std::nullopt);
-                best = take();
+                // Every piece that must still be cut, searched in full: from each hole to its
+                // nearest, then (where no loop is valid yet) to every other hole, then the loops
+                // between pairs of holes (generate_between()).
+                for (const bool every_hole : {false, true}) {
+                    for (int piece = 0; piece < cut_.count; ++piece)
+                        if (!done(piece)) generate(piece, std::nullopt, every_hole);
+                    best = take();
+                    if (best) break;
+                }
+                for (int piece = 0; piece < cut_.count && !best; ++piece)
+                    if (!done(piece)) generate_between(piece);
+                if (!best) best = take();
                 if (best || room == kRoomAttempts) break;
                 std::vector<Cycle> extra;
                 for (int l : loops_) extra.push_back(w_.curves_[l]);
@@ -168,7 +201,9 @@ private:
         const int piece = cut_.label[triangle_beside(w_.s_, loop, 0)];
         if (done(piece)) return false;
         const Split split = split_by(w_.s_, cut_, piece, w_, loop, loop_edges_);
-        return !split.separating || (split.chi0 <= -1 && chi_[piece] - split.chi0 <= -1);
+        if (!split.separating) return true;  // nor on the closed surface
+        return split.chi0 <= -1 && chi_[piece] - split.chi0 <= -1 &&
+               !(nonseparating_ && separates_surface(w_.s_, loop));
     }
 
     // The shortest valid candidate, taken from the pool; drops the ones no longer valid.
@@ -241,9 +276,117 @@ private:
             if (!c.loop.empty()) pool_.push_back(std::move(c));
     }
 
+    // The last resort of a piece with holes (where no loop of generate() is valid): per pair of
+    // its holes, the loop between the triangles nearer to the two (and a shortest path between
+    // them) and those nearer to its other holes: a Voronoi boundary, so it keeps as far as it can
+    // from every wall. Kept where it is one simple closed curve off every wall.
+    void generate_between(int piece) {
+        const Surface& s = w_.s_;
+        const PieceState ps = piece_state(piece);
+        const std::vector<Hole>& hs = ps.holes;
+        const int n = static_cast<int>(hs.size());
+        if (n < 3) return;
+        std::vector<std::vector<std::pair<int, double>>> rim(n);  // per hole: free neighbours, 0
+        for (int i = 0; i < n; ++i) {
+            const Cycle& c = w_.curves_[hs[i].curve];
+            for (int x : c) {
+                const auto [pv, nx] = neighbours_on(c, x);
+                const auto sec = sectors(s, x, pv, nx);
+                for (int y : sec[1 - hs[i].side])
+                    if (!ps.wall[y]) rim[i].push_back({y, 0.0});
+            }
+        }
+        const int nt = s.num_half_edges() / 3;
+        for (int i = 0; i < n; ++i)
+            for (int j = i + 1; j < n; ++j) {
+                if (rim[i].empty() || rim[j].empty()) continue;
+                // Off the other holes' rims, and the others' paths off the pair's rims and that
+                // path: the two sides' sources do not touch.
+                std::vector<char> off_others = ps.wall, off_p = ps.wall;
+                for (int k = 0; k < n; ++k)
+                    for (const auto& [y, zero] : rim[k]) (k == i || k == j ? off_p : off_others)[y] = 1;
+                PathSearch between;
+                between.blocked = &off_others;
+                between.sources = rim[i];
+                between.targets = rim[j];
+                const PathResult r = detail::dijkstra(s, between);
+                if (r.target < 0) continue;
+                // The pair joined by that path, the other holes by paths that keep off it (else a
+                // pair across the piece would leave the others' side in two).
+                PathSearch near, far;
+                near.blocked = far.blocked = &ps.wall;
+                const std::vector<int> p = r.path_to(s, r.target);
+                for (int v : p) near.sources.push_back({v, 0.0});
+                for (const int k : {i, j}) near.sources.insert(near.sources.end(), rim[k].begin(), rim[k].end());
+                for (int v : p) off_p[v] = 1;
+                bool joined = true;
+                for (int k = 0; k < n && joined; ++k) {
+                    if (k == i || k == j) continue;
+                    if (!far.sources.empty()) {
+                        PathSearch join;
+                        join.blocked = &off_p;
+                        join.sources = far.sources;
+                        join.targets = rim[k];
+                        const PathResult q = detail::dijkstra(s, join);
+                        if (q.target < 0) joined = false;
+                        else
+                            for (int v : q.path_to(s, q.target)) far.sources.push_back({v, 0.0});
+                    }
+                    far.sources.insert(far.sources.end(), rim[k].begin(), rim[k].end());
+                }
+                if (!joined) continue;
+                const std::vector<double> dn = detail::dijkstra(s, near).distance;
+                const std::vector<double> df = detail::dijkstra(s, far).distance;
+                std::vector<char> pair_loop(s.num_vertices(), 0);
+                for (const int k : {i, j})
+                    for (int v : w_.curves_[hs[k].curve]) pair_loop[v] = 1;
+                // Triangles of the piece: 1 nearer to the pair, 2 nearer to the others (by their
+                // free corners' least distances), 0 outside.
+                std::vector<char> side(nt, 0);
+                for (int t = 0; t < nt; ++t) {
+                    if (cut_.label[t] != piece) continue;
+                    double a = kInf, b = kInf;
+                    for (int k = 0; k < 3; ++k) {
+                        const int v = s.mesh().triangles[t][k];
+                        if (ps.wall[v]) continue;
+                        a = std::min(a, dn[v]), b = std::min(b, df[v]);
+                    }
+                    if (a == b) {  // no free corner, or one as near to both: by the loops it touches
+                        bool on_pair = false;
+                        for (int k = 0; k < 3; ++k) on_pair = on_pair || pair_loop[s.mesh().triangles[t][k]];
+                        a = on_pair ? 0 : kInf, b = on_pair ? kInf : 0;
+                    }
+                    side[t] = a < b ? 1 : 2;
+                }
+                // The half-edges with the pair's side on their left and the others' on their right.
+                std::vector<int> next(s.num_vertices(), -1);
+                int first = -1, count = 0;
+                bool simple = true;
+                for (int h = 0; h < 3 * nt && simple; ++h) {
+                    if (side[h / 3] != 1 || side[s.twin(h) / 3] != 2) continue;
+                    const int a = s.from(h);
+                    if (ps.wall[a] || ps.wall[s.to(h)] || next[a] >= 0) simple = false;
+                    next[a] = s.to(h), first = a, ++count;
+                }
+                if (!simple || first < 0) continue;
+                Candidate c;
+                for (int v = first; c.loop.size() <= static_cast<size_t>(count);) {
+                    c.loop.push_back(v);
+                    v = next[v];
+                    if (v < 0) break;
+                    if (v == first) break;
+                }
+                if (count < 3 || static_cast<int>(c.loop.size()) != count) continue;  // several curves, or open
+                for (size_t k = 0; k < c.loop.size(); ++k)
+                    c.length += ps.cost(s.find_half_edge(c.loop[k], c.loop[(k + 1) % c.loop.size()]));
+                pool_.push_back(std::move(c));
+            }
+    }
+
     // Candidates in `piece`: for every hole (or only `from`, a new loop's side), loops across the
-    // shortest paths to its nearest holes, and round the two holes and such a path.
-    void generate(int piece, std::optional<std::pair<int, int>> from) {
+    // shortest paths to its kNearHoles nearest holes (`every_hole`: to all of them, nearest first),
+    // and round the two holes and such a path.
+    void generate(int piece, std::optional<std::pair<int, int>> from, bool every_hole = false) {
         const Surface& s = w_.s_;
         const PieceState ps = piece_state(piece);
         const std::vector<Hole>& hs = ps.holes;
@@ -303,7 +446,7 @@ private:
             std::vector<char> skip(n, 0);
             skip[i] = 1;
             const auto sources = rim_sources(i, ps.wall);
-            for (int round = 0; round < kNearHoles && n > 1; ++round) {
+            for (int round = 0; round < (every_hole ? n - 1 : kNearHoles) && n > 1; ++round) {
                 int j = -1;
                 std::vector<int> p = path_to_rim(ps.wall, sources, skip, &j);
                 if (p.empty()) break;
@@ -351,6 +494,7 @@ private:
 
     Builder& w_;
     const int g_;
+    const bool nonseparating_;
     std::vector<int> loops_;
     std::vector<double> lengths_;
     std::vector<Candidate> pool_;
@@ -423,26 +567,37 @@ std::optional<std::vector<char>> pants_matching(const std::vector<std::array<int
 std::optional<std::vector<int>> neck_s_cycles(Builder& b, int g, const Say& say) {
     static_assert(2 * kMaxNeckGenus - 2 <= kMaxMatchedPants, "the pants of the highest genus tried are matched");
     if (g > kMaxNeckGenus) return std::nullopt;
+    // Shortest loops first; where their pants have no perfect matching (a pair of pants with two
+    // handles hanging off it: loops round each handle's two feet), again with loops that separate
+    // nothing.
     Builder w = b;
-    PantsSearch search(w, g);
-    search.seed();
-    if (!search.run(say)) {
-        say("necks: a piece has no loop left to cut it");
-        return std::nullopt;
+    std::vector<int> loops;
+    std::optional<std::vector<char>> dropped;
+    for (const bool nonseparating : {false, true}) {
+        w = b;
+        PantsSearch search(w, g, nonseparating);
+        search.seed();
+        if (!search.run(say)) {
+            say("necks: a piece has no loop left to cut it");
+            return std::nullopt;
+        }
+        loops = search.loops();
+        const Cut c = cut_by(w, loops);
+        if (c.count != 2 * g - 2) return std::nullopt;
+        std::vector<std::array<int, 2>> ends;
+        for (int l : loops)
+            ends.push_back({c.label[triangle_beside(w.s_, w.curves_[l], 0)], c.label[triangle_beside(w.s_, w.curves_[l], 1)]});
+        bool too_many = false;
+        dropped = pants_matching(ends, search.lengths(), c.count, &too_many);
+        if (dropped) break;
+        if (too_many) {
+            say("necks: the pairs of pants have too many matchings to compare");
+            return std::nullopt;
+        }
+        say(nonseparating ? "necks: the pairs of pants have no perfect matching"
+                          : "necks: the pairs of pants have no perfect matching; again with loops that separate nothing");
     }
-    const std::vector<int>& loops = search.loops();
-    const Cut c = cut_by(w, loops);
-    if (c.count != 2 * g - 2) return std::nullopt;
-    std::vector<std::array<int, 2>> ends;
-    for (int l : loops)
-        ends.push_back({c.label[triangle_beside(w.s_, w.curves_[l], 0)], c.label[triangle_beside(w.s_, w.curves_[l], 1)]});
-    bool too_many = false;
-    const auto dropped = pants_matching(ends, search.lengths(), c.count, &too_many);
-    if (!dropped) {
-        say(too_many ? "necks: the pairs of pants have too many matchings to compare"
-                     : "necks: the pairs of pants have no perfect matching");
-        return std::nullopt;
-    }
+    if (!dropped) return std::nullopt;
     std::vector<int> kept;
     for (size_t e = 0; e < loops.size(); ++e) {
         if (!(*dropped)[e])
