@@ -276,6 +276,20 @@ private:
             if (!c.loop.empty()) pool_.push_back(std::move(c));
     }
 
+    // Hole i's rim in the piece: (free neighbour on the piece's side, loop vertex) pairs.
+    std::vector<std::pair<int, int>> rim_of(const PieceState& ps, int i) const {
+        const Surface& s = w_.s_;
+        const Cycle& c = w_.curves_[ps.holes[i].curve];
+        std::vector<std::pair<int, int>> rim;
+        for (int x : c) {
+            const auto [pv, nx] = neighbours_on(c, x);
+            const auto sec = sectors(s, x, pv, nx);  // named: a temporary's [side] would dangle
+            for (int y : sec[1 - ps.holes[i].side])
+                if (!ps.wall[y]) rim.push_back({y, x});
+        }
+        return rim;
+    }
+
     // The last resort of a piece with holes (where no loop of generate() is valid): per pair of
     // its holes, the loop between the triangles nearer to the two (and a shortest path between
     // them) and those nearer to its other holes: a Voronoi boundary, so it keeps as far as it can
@@ -286,16 +300,9 @@ private:
         const std::vector<Hole>& hs = ps.holes;
         const int n = static_cast<int>(hs.size());
         if (n < 3) return;
-        std::vector<std::vector<std::pair<int, double>>> rim(n);  // per hole: free neighbours, 0
-        for (int i = 0; i < n; ++i) {
-            const Cycle& c = w_.curves_[hs[i].curve];
-            for (int x : c) {
-                const auto [pv, nx] = neighbours_on(c, x);
-                const auto sec = sectors(s, x, pv, nx);
-                for (int y : sec[1 - hs[i].side])
-                    if (!ps.wall[y]) rim[i].push_back({y, 0.0});
-            }
-        }
+        std::vector<std::vector<std::pair<int, double>>> rim(n);  // per hole: its rim's vertices, at 0
+        for (int i = 0; i < n; ++i)
+            for (const auto& [y, x] : rim_of(ps, i)) rim[i].push_back({y, 0.0});
         const int nt = s.num_half_edges() / 3;
         for (int i = 0; i < n; ++i)
             for (int j = i + 1; j < n; ++j) {
@@ -396,15 +403,7 @@ private:
             return;
         }
         std::vector<std::vector<std::pair<int, int>>> rim(n);  // per hole: (free neighbour, loop vertex)
-        for (int i = 0; i < n; ++i) {
-            const Cycle& c = w_.curves_[hs[i].curve];
-            for (int x : c) {
-                const auto [pv, nx] = neighbours_on(c, x);
-                const auto sec = sectors(s, x, pv, nx);  // named: a temporary's [side] would dangle
-                for (int y : sec[1 - hs[i].side])
-                    if (!ps.wall[y]) rim[i].push_back({y, x});
-            }
-        }
+        for (int i = 0; i < n; ++i) rim[i] = rim_of(ps, i);
         // A shortest path from `sources` to the rim of a hole not in `skip`, ending on its loop.
         auto path_to_rim = [&](const std::vector<char>& blocked, const std::vector<std::pair<int, double>>& sources,
                                const std::vector<char>& skip, int* hole) {
