@@ -127,9 +127,11 @@ public:
                     best = take();
                     if (best) break;
                 }
-                for (int piece = 0; piece < cut_.count && !best; ++piece)
-                    if (!done(piece)) generate_between(piece);
-                if (!best) best = take();
+                if (!best) {
+                    for (int piece = 0; piece < cut_.count; ++piece)
+                        if (!done(piece)) generate_between(piece);
+                    best = take();
+                }
                 if (best || room == kRoomAttempts) break;
                 std::vector<Cycle> extra;
                 for (int l : loops_) extra.push_back(w_.curves_[l]);
