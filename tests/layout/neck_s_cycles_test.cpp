@@ -175,7 +175,6 @@ TEST(NeckSCycles, AWheelIsCutIntoTshirtsByShorterSCyclesThanTheHandleLoops) {
     EXPECT_LT(necks_longest, handles_longest);
 }
 
-// Deterministic: the same S-cycles twice.
 // Small handles on a big body: the shortest loops go round each handle's feet, so a pair of pants
 // gets two handles hanging off it and the pants have no perfect matching. The search starts again
 // with loops that separate nothing (whose pants always have one) and cuts the surface into
@@ -202,6 +201,7 @@ TEST(NeckSCycles, HandlesOnABodyAreCutAgainWithLoopsThatSeparateNothing) {
     EXPECT_EQ(pieces.holes.size(), static_cast<size_t>(3 * g - 3));
 }
 
+// Deterministic: the same S-cycles twice.
 TEST(NeckSCycles, TheSameSCyclesEveryRun) {
     shapes::WheelOptions o;
     o.holes = 3;
